@@ -1,0 +1,193 @@
+//! Materials: Lambertian and the GGX rough conductor (Fresnel one). One-sided: a material
+//! reflects only when both directions are above the geometric normal. Directions are local
+//! (`z` = normal), `wo` towards the viewer, `wi` towards the light.
+
+use crate::error::{Field, SceneError};
+use crate::math::{INV_PI, Rgb, Vec2, Vec3, finite3};
+use crate::sampling::{
+    cosine_hemisphere_pdf, ggx_d, ggx_g1, ggx_vndf_pdf, sample_cosine_hemisphere, sample_ggx_vndf,
+};
+
+/// The closed set of materials.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Material {
+    /// Ideal diffuse reflector: f = albedo / pi.
+    Lambertian {
+        /// Albedo per channel, in [0, 1].
+        albedo: Rgb,
+    },
+    /// GGX microfacet conductor with Fresnel one: f = R D G1(wi) G1(wo) / (4 cos_i cos_o).
+    GgxConductor {
+        /// GGX alpha, in (0, 1], used directly.
+        alpha: f32,
+        /// Specular reflectance R per channel, in [0, 1].
+        reflectance: Rgb,
+    },
+}
+
+/// A direction drawn by BSDF sampling.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BsdfSample {
+    /// Sampled incident direction (local).
+    pub wi: Vec3,
+    /// f cos(theta_i) / pdf.
+    pub weight: Rgb,
+    /// Pdf per unit solid angle.
+    pub pdf: f32,
+}
+
+fn check_reflectance(c: Rgb, field: Field) -> Result<(), SceneError> {
+    if !finite3(c) {
+        return Err(SceneError::NonFinite(field));
+    }
+    if c.min_element() < 0.0 || c.max_element() > 1.0 {
+        return Err(SceneError::OutOfRange(field));
+    }
+    Ok(())
+}
+
+impl Material {
+    /// A Lambertian material; every albedo channel in [0, 1].
+    pub fn lambertian(albedo: Rgb) -> Result<Self, SceneError> {
+        check_reflectance(albedo, Field::Albedo)?;
+        Ok(Material::Lambertian { albedo })
+    }
+
+    /// A GGX conductor; alpha in (0, 1], reflectance channels in [0, 1].
+    pub fn ggx_conductor(alpha: f32, reflectance: Rgb) -> Result<Self, SceneError> {
+        if !alpha.is_finite() {
+            return Err(SceneError::NonFinite(Field::Alpha));
+        }
+        if !(alpha > 0.0 && alpha <= 1.0) {
+            return Err(SceneError::OutOfRange(Field::Alpha));
+        }
+        check_reflectance(reflectance, Field::Reflectance)?;
+        Ok(Material::GgxConductor { alpha, reflectance })
+    }
+
+    /// True when the material reflects nothing (f = 0 everywhere): direct lighting is skipped.
+    #[inline]
+    pub fn is_black(&self) -> bool {
+        match self {
+            Material::Lambertian { albedo } => albedo.max_element() <= 0.0,
+            Material::GgxConductor { reflectance, .. } => reflectance.max_element() <= 0.0,
+        }
+    }
+
+    /// f(wo, wi) cos(theta_i).
+    #[inline]
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return Rgb::ZERO;
+        }
+        match *self {
+            Material::Lambertian { albedo } => albedo * (INV_PI * wi.z),
+            Material::GgxConductor { alpha, reflectance } => {
+                let Some(m) = (wo + wi).try_normalize() else {
+                    return Rgb::ZERO;
+                };
+                let d = ggx_d(m, alpha);
+                let g = ggx_g1(wi, alpha) * ggx_g1(wo, alpha);
+                // f cos_i = R D G / (4 cos_o); the microfacet normal is above the horizon here.
+                reflectance * (d * g / (4.0 * wo.z))
+            }
+        }
+    }
+
+    /// Pdf per unit solid angle with which [`Material::sample`] draws `wi`.
+    #[inline]
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return 0.0;
+        }
+        match *self {
+            Material::Lambertian { .. } => cosine_hemisphere_pdf(wi.z),
+            Material::GgxConductor { alpha, .. } => {
+                let Some(m) = (wo + wi).try_normalize() else {
+                    return 0.0;
+                };
+                // Reflection Jacobian dm/dwi = 1 / (4 wo.m).
+                let wo_m = wo.dot(m);
+                if wo_m <= 0.0 {
+                    return 0.0;
+                }
+                ggx_vndf_pdf(wo, m, alpha) / (4.0 * wo_m)
+            }
+        }
+    }
+
+    /// Draws `wi` for the given `wo`: cosine-weighted (Lambertian) or visible normals (GGX).
+    /// `None` when the draw leaves the upper hemisphere or `wo` is below it.
+    #[inline]
+    pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        match *self {
+            Material::Lambertian { albedo } => {
+                let wi = sample_cosine_hemisphere(u);
+                let pdf = cosine_hemisphere_pdf(wi.z);
+                // f cos / pdf = albedo exactly: the furnace has zero variance.
+                (pdf > 0.0).then_some(BsdfSample { wi, weight: albedo, pdf })
+            }
+            Material::GgxConductor { alpha, reflectance } => {
+                let m = sample_ggx_vndf(wo, alpha, u);
+                let wo_m = wo.dot(m);
+                if wo_m <= 0.0 {
+                    return None;
+                }
+                let wi = m * (2.0 * wo_m) - wo;
+                if wi.z <= 0.0 {
+                    return None;
+                }
+                let pdf = ggx_vndf_pdf(wo, m, alpha) / (4.0 * wo_m);
+                if !(pdf > 0.0) || !pdf.is_finite() {
+                    return None;
+                }
+                // f cos / pdf = R G1(wi) for visible-normal sampling.
+                Some(BsdfSample { wi, weight: reflectance * ggx_g1(wi, alpha), pdf })
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn construction_rejects_bad_values() {
+        assert_eq!(Material::lambertian(Rgb::new(0.5, 1.5, 0.0)), Err(SceneError::OutOfRange(Field::Albedo)));
+        assert_eq!(Material::ggx_conductor(0.0, Rgb::ONE), Err(SceneError::OutOfRange(Field::Alpha)));
+        assert_eq!(Material::ggx_conductor(f32::NAN, Rgb::ONE), Err(SceneError::NonFinite(Field::Alpha)));
+    }
+
+    #[test]
+    fn sample_weight_matches_eval_over_pdf() {
+        let wo = Vec3::new(0.3, -0.2, 0.8).normalize();
+        for m in [
+            Material::lambertian(Rgb::splat(0.5)).unwrap(),
+            Material::ggx_conductor(0.2, Rgb::splat(0.9)).unwrap(),
+            Material::ggx_conductor(1e-3, Rgb::ONE).unwrap(),
+        ] {
+            for i in 0..16 {
+                let u = Vec2::new((i as f32 + 0.5) / 16.0, ((i * 7) % 16) as f32 / 16.0 + 0.01);
+                let Some(s) = m.sample(wo, u) else { continue };
+                let expect = m.eval(wo, s.wi) / s.pdf;
+                let rel = ((s.weight - expect).abs() / expect.max(Vec3::splat(1e-6))).max_element();
+                assert!(rel < 2e-3, "{m:?} {s:?} {expect}");
+                assert!((m.pdf(wo, s.wi) / s.pdf - 1.0).abs() < 2e-3);
+            }
+        }
+    }
+
+    #[test]
+    fn one_sided() {
+        let m = Material::lambertian(Rgb::ONE).unwrap();
+        let below = Vec3::new(0.0, 0.0, -1.0);
+        assert_eq!(m.eval(Vec3::Z, below), Rgb::ZERO);
+        assert_eq!(m.eval(below, Vec3::Z), Rgb::ZERO);
+        assert_eq!(m.pdf(below, Vec3::Z), 0.0);
+        assert!(m.sample(below, Vec2::splat(0.5)).is_none());
+    }
+}

@@ -1,0 +1,125 @@
+//! Render settings: which techniques, how many samples, how they are combined, and the seed.
+
+use crate::error::{Field, SceneError};
+use crate::light::{LightSelection, SphereSampling};
+use crate::mis::{Heuristic, Method};
+
+/// Validated settings for one render. A seed fully determines the image.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RenderSettings {
+    method: Method,
+    light_samples: u16,
+    bsdf_samples: u16,
+    spp: u32,
+    seed: u32,
+    spheres: SphereSampling,
+    selection: LightSelection,
+}
+
+impl RenderSettings {
+    /// Settings with `n_light` light and `n_bsdf` BSDF samples per camera sample, `spp` camera
+    /// samples per pixel. Rejects a method left with no samples, a power heuristic whose beta is
+    /// not finite and positive, a cutoff alpha outside [0, 1], and `spp` = 0.
+    pub fn new(
+        method: Method,
+        light_samples: u16,
+        bsdf_samples: u16,
+        spp: u32,
+        seed: u32,
+    ) -> Result<Self, SceneError> {
+        match method {
+            Method::Mis(Heuristic::Power { beta }) if !(beta.is_finite() && beta > 0.0) => {
+                return Err(SceneError::OutOfRange(Field::Beta));
+            }
+            Method::Mis(Heuristic::Cutoff { alpha }) if !(0.0..=1.0).contains(&alpha) => {
+                return Err(SceneError::OutOfRange(Field::CutoffAlpha));
+            }
+            _ => {}
+        }
+        if spp == 0 {
+            return Err(SceneError::NonPositive(Field::SamplesPerPixel));
+        }
+        if method.sample_counts(light_samples, bsdf_samples) == (0, 0) {
+            return Err(SceneError::NoTechnique);
+        }
+        Ok(Self {
+            method,
+            light_samples,
+            bsdf_samples,
+            spp,
+            seed,
+            spheres: SphereSampling::default(),
+            selection: LightSelection::default(),
+        })
+    }
+
+    /// The same settings with another sphere-light sampling strategy.
+    pub fn with_sphere_sampling(mut self, spheres: SphereSampling) -> Self {
+        self.spheres = spheres;
+        self
+    }
+
+    /// The same settings with another light-selection strategy.
+    pub fn with_light_selection(mut self, selection: LightSelection) -> Self {
+        self.selection = selection;
+        self
+    }
+
+    /// The same settings with another seed.
+    pub fn with_seed(mut self, seed: u32) -> Self {
+        self.seed = seed;
+        self
+    }
+
+    /// The same settings with another number of samples per pixel (0 is raised to 1).
+    pub fn with_spp(mut self, spp: u32) -> Self {
+        self.spp = spp.max(1);
+        self
+    }
+
+    /// The combination method.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+    /// Light and BSDF samples actually drawn per camera sample.
+    pub fn technique_samples(&self) -> (u16, u16) {
+        self.method.sample_counts(self.light_samples, self.bsdf_samples)
+    }
+    /// Camera samples per pixel.
+    pub fn spp(&self) -> u32 {
+        self.spp
+    }
+    /// Seed.
+    pub fn seed(&self) -> u32 {
+        self.seed
+    }
+    /// Sphere-light sampling strategy.
+    pub fn sphere_sampling(&self) -> SphereSampling {
+        self.spheres
+    }
+    /// Light-selection strategy.
+    pub fn light_selection(&self) -> LightSelection {
+        self.selection
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_invalid_settings() {
+        let p = |beta| Method::Mis(Heuristic::Power { beta });
+        assert_eq!(RenderSettings::new(p(f32::NAN), 1, 1, 1, 0), Err(SceneError::OutOfRange(Field::Beta)));
+        assert_eq!(RenderSettings::new(p(0.0), 1, 1, 1, 0), Err(SceneError::OutOfRange(Field::Beta)));
+        let c = Method::Mis(Heuristic::Cutoff { alpha: 1.5 });
+        assert_eq!(RenderSettings::new(c, 1, 1, 1, 0), Err(SceneError::OutOfRange(Field::CutoffAlpha)));
+        assert_eq!(RenderSettings::new(Method::LightOnly, 0, 4, 1, 0), Err(SceneError::NoTechnique));
+        assert_eq!(
+            RenderSettings::new(Method::BsdfOnly, 1, 1, 0, 0),
+            Err(SceneError::NonPositive(Field::SamplesPerPixel))
+        );
+        assert!(RenderSettings::new(p(2.0), 1, 0, 1, 0).is_ok());
+    }
+}
