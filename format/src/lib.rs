@@ -1,0 +1,256 @@
+//! # picomis-format
+//!
+//! The `picomis-scene/1` JSON scene format (see `scenes/FORMAT.md`): strict loading with errors
+//! that name the file, the entry and the reason; kernel scenes of any capacity; and Rust source
+//! for firmware build scripts, so a microcontroller gets the same scene, bit for bit.
+//!
+//! Loading goes in two steps. [`SceneFile::parse`] deserializes strictly (unknown keys and wrong
+//! types are errors) and lowers the file into a list of validated kernel values. Both
+//! [`SceneFile::build`] and [`SceneFile::to_rust`] then replay that one list, so the host and the
+//! firmware add the same materials, shapes and lights in the same order with the same f32 bits.
+#![deny(missing_docs)]
+
+mod codegen;
+mod desc;
+
+use std::fmt;
+use std::path::Path;
+
+use picomis::{
+    Camera, CameraDesc, Collection, Film, Heuristic, Material, Method, RenderSettings, Rgb, Scene,
+    SceneError, Shape, Vec3,
+};
+
+/// Why a scene file could not be loaded: which file, which entry, and why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LoadError {
+    /// The file (a path or a built-in scene's name).
+    pub file: String,
+    /// The entry, e.g. `shapes[3] "plate1"` or `materials.floor`.
+    pub entry: String,
+    /// What is wrong.
+    pub reason: String,
+}
+
+impl fmt::Display for LoadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}: {}", self.file, self.entry, self.reason)
+    }
+}
+
+impl std::error::Error for LoadError {}
+
+/// How many of each object a scene holds: the kernel capacities it needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Counts {
+    /// Shapes (emitting or not).
+    pub shapes: usize,
+    /// Lights: area emitters plus point lights.
+    pub lights: usize,
+    /// Materials.
+    pub materials: usize,
+}
+
+/// Geometry of a shape as written in the file.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Geometry {
+    Sphere { center: Vec3, radius: f32 },
+    Quad([Vec3; 4]),
+}
+
+impl Geometry {
+    pub(crate) fn shape(&self) -> Result<Shape, SceneError> {
+        match *self {
+            Geometry::Sphere { center, radius } => Shape::sphere(center, radius),
+            Geometry::Quad(p) => Shape::quad(p),
+        }
+    }
+}
+
+/// One validated step of building the scene, in order.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Step {
+    Material(Material),
+    Shape { entry: String, geometry: Geometry, material: usize, emitter: Option<Rgb> },
+    PointLight { entry: String, position: Vec3, intensity: Rgb },
+}
+
+/// A parsed and fully validated `picomis-scene/1` file.
+#[derive(Clone, Debug)]
+pub struct SceneFile {
+    file: String,
+    name: String,
+    description: String,
+    film: Film,
+    camera: CameraDesc,
+    method: Method,
+    light_samples: u16,
+    bsdf_samples: u16,
+    steps: Vec<Step>,
+    counts: Counts,
+}
+
+/// Largest scene file read, in bytes (scenes are small; this bounds memory on hostile input).
+pub const MAX_FILE_BYTES: u64 = 4 << 20;
+
+impl SceneFile {
+    /// Parses and validates a scene; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Self, LoadError> {
+        desc::lower(text, file)
+    }
+
+    /// Reads, parses and validates a scene file.
+    pub fn load(path: &Path) -> Result<Self, LoadError> {
+        let file = path.display().to_string();
+        let err = |reason: String| LoadError { file: file.clone(), entry: "file".into(), reason };
+        let meta = std::fs::metadata(path).map_err(|e| err(e.to_string()))?;
+        if meta.len() > MAX_FILE_BYTES {
+            return Err(err(format!("larger than {MAX_FILE_BYTES} bytes")));
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+        Self::parse(&text, &file)
+    }
+
+    /// The scene's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The scene's description.
+    pub fn description(&self) -> &str {
+        &self.description
+    }
+
+    /// The file this scene came from.
+    pub fn file(&self) -> &str {
+        &self.file
+    }
+
+    /// Object counts: the capacities a kernel scene needs to hold this file.
+    pub fn counts(&self) -> Counts {
+        self.counts
+    }
+
+    /// The film of the file.
+    pub fn film(&self) -> Film {
+        self.film
+    }
+
+    /// The camera of the file.
+    pub fn camera(&self) -> CameraDesc {
+        self.camera
+    }
+
+    /// Builds the kernel scene with capacities `S` shapes, `L` lights, `M` materials.
+    pub fn build<const S: usize, const L: usize, const M: usize>(&self) -> Result<Scene<S, L, M>, LoadError> {
+        self.build_with_film(self.film)
+    }
+
+    /// Builds the kernel scene for another film size.
+    pub fn build_with_film<const S: usize, const L: usize, const M: usize>(
+        &self,
+        film: Film,
+    ) -> Result<Scene<S, L, M>, LoadError> {
+        let mut scene = Scene::new(self.camera, film).map_err(|e| self.error("camera", e))?;
+        let mut materials = Vec::new();
+        for (i, step) in self.steps.iter().enumerate() {
+            match step {
+                Step::Material(m) => {
+                    let id =
+                        scene.add_material(*m).map_err(|e| self.capacity(format!("materials[{i}]"), e, M))?;
+                    materials.push(id);
+                }
+                Step::Shape { entry, geometry, material, emitter } => {
+                    let shape = geometry.shape().map_err(|e| self.error(entry, e))?;
+                    let &mat = materials
+                        .get(*material)
+                        .ok_or_else(|| self.error(entry, SceneError::UnknownMaterial))?;
+                    let id = scene.add_shape(shape, mat).map_err(|e| self.capacity(entry.clone(), e, S))?;
+                    if let Some(radiance) = emitter {
+                        scene
+                            .add_area_light(id, *radiance)
+                            .map_err(|e| self.capacity(entry.clone(), e, L))?;
+                    }
+                }
+                Step::PointLight { entry, position, intensity } => {
+                    scene
+                        .add_point_light(*position, *intensity)
+                        .map_err(|e| self.capacity(entry.clone(), e, L))?;
+                }
+            }
+        }
+        Ok(scene)
+    }
+
+    /// The integrator block's defaults: method and sample counts (1 spp, seed 0).
+    pub fn default_settings(&self) -> Result<RenderSettings, LoadError> {
+        RenderSettings::new(self.method, self.light_samples, self.bsdf_samples, 1, 0)
+            .map_err(|e| self.error("integrator", e))
+    }
+
+    /// The default method of the integrator block.
+    pub fn default_method(&self) -> Method {
+        self.method
+    }
+
+    /// Light and BSDF samples per camera sample of the integrator block.
+    pub fn default_samples(&self) -> (u16, u16) {
+        (self.light_samples, self.bsdf_samples)
+    }
+
+    /// Rust source of a module that builds this scene with its own capacities (see the crate
+    /// docs): `SHAPES`, `LIGHTS`, `MATERIALS`, `NAME`, `WIDTH`, `HEIGHT`, `SceneT`,
+    /// `build(film)` and `settings()`.
+    pub fn to_rust(&self) -> String {
+        codegen::module(self)
+    }
+
+    fn error(&self, entry: &str, e: SceneError) -> LoadError {
+        LoadError { file: self.file.clone(), entry: entry.into(), reason: e.to_string() }
+    }
+
+    fn capacity(&self, entry: String, e: SceneError, capacity: usize) -> LoadError {
+        let reason = match e {
+            SceneError::CapacityExceeded(c) => {
+                let what = match c {
+                    Collection::Shapes => "shapes",
+                    Collection::Lights => "lights",
+                    Collection::Materials => "materials",
+                };
+                format!("too many {what} for this build (it holds {capacity})")
+            }
+            other => other.to_string(),
+        };
+        LoadError { file: self.file.clone(), entry, reason }
+    }
+}
+
+/// Parses a method name: `bsdf`, `light`, `average`, `balance`, `power` (with `beta`),
+/// `maximum`, `cutoff` (with `alpha`).
+pub fn parse_method(name: &str, beta: f32, alpha: f32) -> Result<Method, String> {
+    let m = match name {
+        "bsdf" => Method::BsdfOnly,
+        "light" => Method::LightOnly,
+        "average" => Method::Mis(Heuristic::Average),
+        "balance" => Method::Mis(Heuristic::Balance),
+        "power" => Method::Mis(Heuristic::Power { beta }),
+        "maximum" => Method::Mis(Heuristic::Maximum),
+        "cutoff" => Method::Mis(Heuristic::Cutoff { alpha }),
+        other => {
+            return Err(format!(
+                "unknown method {other:?} (expected bsdf, light, average, balance, power, maximum or cutoff)"
+            ));
+        }
+    };
+    // Validate beta and alpha the way the kernel does.
+    RenderSettings::new(m, 1, 1, 1, 0).map_err(|e| e.to_string())?;
+    Ok(m)
+}
+
+/// The names [`parse_method`] accepts, in the seed's order.
+pub const METHOD_NAMES: [&str; 7] = ["bsdf", "light", "average", "balance", "power", "maximum", "cutoff"];
+
+/// Checks that a camera description is valid for a 1x1 film (used while lowering).
+pub(crate) fn check_camera(camera: CameraDesc, film: Film) -> Result<(), SceneError> {
+    Camera::new(camera, film).map(|_| ())
+}

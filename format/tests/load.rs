@@ -1,0 +1,173 @@
+//! Loading `picomis-scene/1` files: the Veach scene, and every class of bad input.
+
+use picomis_format::{Counts, LoadError, SceneFile, parse_method};
+
+const VEACH: &str = include_str!("../../scenes/veach_mis.json");
+
+fn veach() -> serde_json::Value {
+    serde_json::from_str(VEACH).unwrap()
+}
+
+fn load(v: &serde_json::Value) -> Result<SceneFile, LoadError> {
+    SceneFile::parse(&v.to_string(), "test.json")
+}
+
+/// Asserts that loading fails, naming the file, the entry and the reason.
+fn rejects(v: &serde_json::Value, entry: &str, reason: &str) {
+    let e = match load(v) {
+        Ok(_) => panic!("accepted a bad scene (expected {entry}: {reason})"),
+        Err(e) => e,
+    };
+    assert_eq!(e.file, "test.json");
+    assert!(e.entry.contains(entry), "entry {:?} should name {entry:?} ({e})", e.entry);
+    assert!(e.reason.contains(reason), "reason {:?} should say {reason:?}", e.reason);
+    assert!(e.to_string().starts_with("test.json: "));
+}
+
+#[test]
+fn veach_scene_loads_with_its_own_counts() {
+    let s = load(&veach()).unwrap();
+    assert_eq!(s.name(), "veach_mis");
+    assert_eq!(s.counts(), Counts { shapes: 11, lights: 5, materials: 6 });
+    let scene = s.build::<11, 5, 6>().unwrap();
+    assert_eq!(scene.objects().len(), 11);
+    assert_eq!(scene.lights().len(), 5);
+    assert_eq!((scene.film().width(), scene.film().height()), (384, 256));
+    assert!(s.default_settings().is_ok());
+}
+
+#[test]
+fn capacity_overflow_names_the_entry() {
+    let s = load(&veach()).unwrap();
+    let e = s.build::<10, 5, 6>().unwrap_err();
+    assert!(e.entry.contains("shapes[10]") && e.reason.contains("too many shapes"), "{e}");
+    let e = s.build::<11, 4, 6>().unwrap_err();
+    assert!(e.reason.contains("too many lights"), "{e}");
+    let e = s.build::<11, 5, 5>().unwrap_err();
+    assert!(e.reason.contains("too many materials"), "{e}");
+}
+
+#[test]
+fn malformed_json() {
+    let e = SceneFile::parse("{ \"format\": ", "bad.json").unwrap_err();
+    assert_eq!(e.file, "bad.json");
+    assert!(e.reason.contains("EOF") || e.reason.contains("line"), "{e}");
+}
+
+#[test]
+fn unknown_keys_and_types() {
+    let mut v = veach();
+    v["colour"] = 1.into();
+    rejects(&v, "colour", "unknown field");
+    let mut v = veach();
+    v["shapes"][6]["radius_mm"] = 3.into();
+    rejects(&v, "shapes[6]", "unknown field");
+    let mut v = veach();
+    v["shapes"][6]["type"] = "torus".into();
+    rejects(&v, "shapes[6]", "unknown variant");
+    let mut v = veach();
+    v["shapes"][6]["radius"] = "big".into();
+    rejects(&v, "shapes[6] \"light_r0_03333\".radius", "invalid type");
+    let mut v = veach();
+    v["materials"]["plate1"]["fresnel"] = "schlick".into();
+    rejects(&v, "materials.plate1", "unknown variant");
+    let mut v = veach();
+    v["format"] = "picomis-scene/2".into();
+    rejects(&v, "format", "expected");
+}
+
+#[test]
+fn non_finite_and_out_of_range_numbers() {
+    let text = VEACH.replacen("\"radius\": 0.03333", "\"radius\": 1e999", 1);
+    let e = SceneFile::parse(&text, "test.json").unwrap_err();
+    assert!(e.entry.contains("shapes[6]"), "{e}");
+    let mut v = veach();
+    v["shapes"][6]["radius"] = (-1.0).into();
+    rejects(&v, "shapes[6] \"light_r0_03333\"", "radius must be positive");
+    let mut v = veach();
+    v["shapes"][6]["radius"] = 1e39.into(); // finite in JSON, infinite in f32
+    rejects(&v, "shapes[6]", "radius is not a finite number");
+    let mut v = veach();
+    v["materials"]["plate1"]["alpha"] = 0.0.into();
+    rejects(&v, "materials.plate1", "alpha is out of range");
+    let mut v = veach();
+    v["materials"]["floor_diffuse"]["albedo"][1] = 1.5.into();
+    rejects(&v, "materials.floor_diffuse", "albedo is out of range");
+    let mut v = veach();
+    v["shapes"][7]["emitter"]["radiance"][0] = (-3.0).into();
+    rejects(&v, "shapes[7]", "radiance is out of range");
+    let mut v = veach();
+    v["camera"]["fov_deg"] = 180.0.into();
+    rejects(&v, "camera", "fov_deg is out of range");
+    let mut v = veach();
+    v["camera"]["up"] = serde_json::json!([0.0, -0.95782628, -0.2873478]);
+    let _ = load(&v); // nearly parallel but not exactly: accepted or rejected, never a panic
+    v["camera"]["up"] = serde_json::json!([0.0, 0.0, 0.0]);
+    rejects(&v, "camera", "up");
+    let mut v = veach();
+    v["film"]["width"] = 0.into();
+    rejects(&v, "film", "film size is out of range");
+    let mut v = veach();
+    v["film"]["width"] = (-5).into();
+    rejects(&v, "film.width", "invalid value");
+    let mut v = veach();
+    v["integrator"]["mis"] = "magic".into();
+    rejects(&v, "integrator.mis", "unknown method");
+    let mut v = veach();
+    v["integrator"]["emitter_samples"] = 0.into();
+    v["integrator"]["bsdf_samples"] = 0.into();
+    rejects(&v, "integrator", "both sample counts are zero");
+}
+
+#[test]
+fn degenerate_shapes() {
+    let mut v = veach();
+    let p0 = v["shapes"][0]["p0"].clone();
+    v["shapes"][0]["p1"] = p0.clone();
+    v["shapes"][0]["p2"] = v["shapes"][0]["p3"].clone();
+    rejects(&v, "shapes[0] \"plate1\"", "zero area");
+    let mut v = veach();
+    v["shapes"][0]["p2"][1] = 5.0.into();
+    rejects(&v, "shapes[0]", "not a parallelogram");
+    let mut v = veach();
+    v["shapes"][0]["normal"] = serde_json::json!([0.0, -0.782413, -0.62276]);
+    rejects(&v, "shapes[0]", "normal");
+    let mut v = veach();
+    v["shapes"][0]["material"] = "gold".into();
+    rejects(&v, "shapes[0]", "unknown material");
+}
+
+#[test]
+fn point_lights_are_counted_and_validated() {
+    let mut v = veach();
+    v["lights"] = serde_json::json!([{ "type": "point", "position": [0, 3, 0], "intensity": [5, 5, 5] }]);
+    let s = load(&v).unwrap();
+    assert_eq!(s.counts().lights, 6);
+    assert_eq!(s.build::<11, 6, 6>().unwrap().lights().len(), 6);
+    v["lights"][0]["intensity"][2] = (-1.0).into();
+    rejects(&v, "lights[0]", "intensity is out of range");
+}
+
+#[test]
+fn method_names() {
+    for name in picomis_format::METHOD_NAMES {
+        assert!(parse_method(name, 2.0, 0.1).is_ok(), "{name}");
+    }
+    assert!(parse_method("power", 0.0, 0.1).is_err());
+    assert!(parse_method("cutoff", 2.0, 2.0).is_err());
+    assert!(parse_method("nope", 2.0, 0.1).is_err());
+}
+
+#[test]
+fn generated_rust_names_every_step_with_exact_bits() {
+    let s = load(&veach()).unwrap();
+    let code = s.to_rust();
+    assert!(code.contains("pub const SHAPES: usize = 11;"));
+    assert!(code.contains("pub const LIGHTS: usize = 5;"));
+    assert!(code.contains("pub const MATERIALS: usize = 6;"));
+    assert_eq!(code.matches("scene.add_shape(").count(), 11);
+    assert_eq!(code.matches("scene.add_area_light(").count(), 5);
+    assert_eq!(code.matches("scene.add_material(").count(), 6);
+    // 0.03333 as f32 bits.
+    assert!(code.contains(&format!("{:#010x}", 0.03333f32.to_bits())));
+}
