@@ -1,0 +1,45 @@
+//! picomis firmware: renders a built-in scene with the picomis kernel into an Rgb565
+//! framebuffer in static memory, tile by tile, and logs progress and statistics.
+//!
+//! Boards: STM32F405 (Cortex-M4F, `thumbv7em-none-eabihf`, QEMU `netduinoplus2`) and nRF51822
+//! (Cortex-M0, `thumbv6m-none-eabi`, QEMU `microbit`). Features: `qemu` (default: semihosting
+//! text logs, framebuffer written to the host, exit status), `rtt` (defmt logs over RTT, the
+//! kernel's defmt support), `measure` (instruction counts per camera sample with SysTick).
+//! See firmware/README.md.
+#![cfg_attr(target_os = "none", no_std)]
+#![cfg_attr(target_os = "none", no_main)]
+
+/// A host build (`cargo build --workspace`) gets this stub; the firmware needs `--target`.
+#[cfg(not(target_os = "none"))]
+fn main() {
+    eprintln!(
+        "picomis-firmware runs on a microcontroller: build it in firmware/ (target thumbv7em-none-eabihf \
+         by default) or with --target thumbv6m-none-eabi; see firmware/README.md"
+    );
+    std::process::exit(2);
+}
+
+// Logging: defmt over RTT with `rtt`, else semihosting text with `qemu`, else nothing.
+#[cfg(all(target_os = "none", feature = "rtt"))]
+macro_rules! info {
+    ($($t:tt)*) => { defmt::println!($($t)*) };
+}
+#[cfg(all(target_os = "none", not(feature = "rtt"), feature = "qemu"))]
+macro_rules! info {
+    ($($t:tt)*) => { cortex_m_semihosting::hprintln!($($t)*) };
+}
+#[cfg(all(target_os = "none", not(feature = "rtt"), not(feature = "qemu")))]
+macro_rules! info {
+    ($fmt:literal $(, $arg:expr)* $(,)?) => {{ $( let _ = &$arg; )* }};
+}
+
+#[cfg(target_os = "none")]
+mod app;
+#[cfg(target_os = "none")]
+mod clock;
+#[cfg(all(target_os = "none", feature = "measure"))]
+mod measure;
+#[cfg(all(target_os = "none", feature = "qemu"))]
+mod semihosting;
+#[cfg(target_os = "none")]
+mod stack;
