@@ -50,9 +50,7 @@ impl Heuristic {
         match *self {
             Heuristic::Average => normalize(r.map(|v| if v > 0.0 { 1.0 } else { 0.0 })),
             Heuristic::Balance => normalize(r),
-            Heuristic::Power { beta } => {
-                normalize(r.map(|v| if v > 0.0 { crate::math::powf(v, beta) } else { 0.0 }))
-            }
+            Heuristic::Power { beta } => normalize(r.map(|v| power(v, beta))),
             Heuristic::Maximum => {
                 let first = r.iter().position(|&v| v >= 1.0);
                 let mut w = [0.0; N];
@@ -63,6 +61,22 @@ impl Heuristic {
             }
             Heuristic::Cutoff { alpha } => normalize(r.map(|v| if v >= alpha && v > 0.0 { v } else { 0.0 })),
         }
+    }
+}
+
+/// `v^beta` for `v` in [0, 1], with the usual exponents computed exactly and cheaply.
+#[inline]
+fn power(v: f32, beta: f32) -> f32 {
+    if !(v > 0.0) {
+        0.0
+    } else if beta == 2.0 {
+        v * v
+    } else if beta == 1.0 {
+        v
+    } else if beta == 3.0 {
+        v * v * v
+    } else {
+        crate::math::powf(v, beta)
     }
 }
 

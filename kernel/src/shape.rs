@@ -47,8 +47,11 @@ pub struct Quad {
     e2: Vec3,
     /// Unit normal.
     n: Vec3,
-    /// `(e1 x e2) / |e1 x e2|^2`, for the (s, t) coordinates of a hit.
-    w: Vec3,
+    /// `n . p0`: the plane is `n . x = plane`.
+    plane: f32,
+    /// Dual axes: `s = (x - p0) . s_axis`, `t = (x - p0) . t_axis` for a point `x` in the plane.
+    s_axis: Vec3,
+    t_axis: Vec3,
     area: f32,
 }
 
@@ -100,7 +103,19 @@ impl Shape {
         if area <= 1e-6 * e1.length() * e2.length() {
             return Err(SceneError::DegenerateQuad);
         }
-        Ok(Shape::Quad(Quad { p0, e1, e2, n: c / area, w: c / len2, area }))
+        // With w = c / |c|^2: s = (d x e2) . w = d . (e2 x w), t = (e1 x d) . w = d . (w x e1).
+        let w = c / len2;
+        let n = c / area;
+        Ok(Shape::Quad(Quad {
+            p0,
+            e1,
+            e2,
+            n,
+            plane: n.dot(p0),
+            s_axis: e2.cross(w),
+            t_axis: w.cross(e1),
+            area,
+        }))
     }
 
     /// Surface area.
@@ -143,13 +158,13 @@ impl Shape {
                 if denom == 0.0 {
                     return None;
                 }
-                let t = q.n.dot(q.p0 - ray.origin) / denom;
+                let t = (q.plane - q.n.dot(ray.origin)) / denom;
                 if !(t > t_min && t < t_max) {
                     return None;
                 }
                 let d = ray.at(t) - q.p0;
-                let s = d.cross(q.e2).dot(q.w);
-                let v = q.e1.cross(d).dot(q.w);
+                let s = d.dot(q.s_axis);
+                let v = d.dot(q.t_axis);
                 ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&v)).then_some(t)
             }
         }
