@@ -130,6 +130,9 @@ fn run() -> u32 {
     #[cfg(feature = "rtt")]
     defmt::println!("settings: {}", settings);
 
+    let (used, _) = stack::peak();
+    info!("stack after scene build: {} bytes (scene {} bytes)", used, core::mem::size_of::<scene::SceneT>() as u32);
+
     // SAFETY: `main` runs once and is the only code touching the framebuffer.
     let fb: &mut Fb = unsafe { &mut *ptr::addr_of_mut!(FRAMEBUFFER) };
     let start = clock::ticks();

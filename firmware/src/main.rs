@@ -33,6 +33,10 @@ macro_rules! info {
     ($fmt:literal $(, $arg:expr)* $(,)?) => {{ $( let _ = &$arg; )* }};
 }
 
+// The defmt global logger: RTT, read by probe-rs (or nobody, under QEMU).
+#[cfg(all(target_os = "none", feature = "rtt"))]
+use defmt_rtt as _;
+
 #[cfg(target_os = "none")]
 mod app;
 #[cfg(target_os = "none")]

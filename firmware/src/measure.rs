@@ -22,7 +22,7 @@ const CALIBRATION_LOOPS: u32 = 8_000_000;
 fn spin(n: u32) {
     // SAFETY: register-only loop.
     unsafe {
-        core::arch::asm!("2:", "subs {0}, #1", "bne 2b", inout("r0") n => _, options(nomem, nostack));
+        core::arch::asm!("2:", "subs r0, #1", "bne 2b", inout("r0") n => _, options(nomem, nostack));
     }
 }
 

@@ -1,0 +1,251 @@
+#!/usr/bin/env bash
+# picomis firmware: build for Cortex-M4F (STM32F405, QEMU netduinoplus2) and Cortex-M0
+# (nRF51822 / micro:bit, QEMU microbit), run under QEMU, compare the framebuffer with the host's
+# render byte for byte, and measure code size, RAM, stack and instructions per camera sample.
+#
+#   scripts/firmware.sh setup     install what is missing (rustup targets, qemu-system-arm)
+#   scripts/firmware.sh test      build all variants, run them under QEMU, compare pixels;
+#                                 last line: "firmware: N passed, M failed"
+#   scripts/firmware.sh measure   sizes, static RAM, peak stack, instructions per camera sample
+#   scripts/firmware.sh lint      cargo fmt --check and clippy -D warnings for both targets
+#
+# Environment: CARGO_TARGET_DIR (default <root>/target), PICOMIS_SIM (host renderer binary,
+# default: built with `cargo build --release -p picomis-sim`), FIRMWARE_WORK (output folder,
+# default <target dir>/firmware-work), QEMU_TIMEOUT (seconds per run, default 180).
+set -uo pipefail
+
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+FW="$ROOT/firmware"
+TD=${CARGO_TARGET_DIR:-$ROOT/target}
+case "$TD" in /*) ;; *) TD="$ROOT/$TD" ;; esac
+WORK=${FIRMWARE_WORK:-$TD/firmware-work}
+QEMU_TIMEOUT=${QEMU_TIMEOUT:-180}
+M4=thumbv7em-none-eabihf
+M0=thumbv6m-none-eabi
+VEACH=scenes/veach_mis.json
+LAMBERT=scenes/lambert_sphere.json
+
+say() { printf '%s\n' "$*"; }
+step() { printf '\n==> %s\n' "$*"; }
+die() { printf 'firmware.sh: %s\n' "$*" >&2; exit 1; }
+
+as_root() {
+  if [ "$(id -u)" = 0 ]; then "$@"; elif command -v sudo >/dev/null; then sudo "$@"; else "$@"; fi
+}
+
+apt_install() { # packages...
+  say "installing $* (apt-get)"
+  as_root apt-get update -qq || return 1
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$@" >/dev/null
+}
+
+setup() { # [binutils]
+  local installed t missing=()
+  command -v rustup >/dev/null || die "rustup is required"
+  installed=$(rustup target list --installed)
+  for t in $M4 $M0; do
+    grep -qx "$t" <<<"$installed" || rustup target add "$t" || die "rustup target add $t failed"
+  done
+  command -v qemu-system-arm >/dev/null || missing+=(qemu-system-arm)
+  if [ "${1:-}" = binutils ]; then
+    command -v arm-none-eabi-size >/dev/null || missing+=(binutils-arm-none-eabi)
+  fi
+  if [ ${#missing[@]} -gt 0 ]; then
+    apt_install "${missing[@]}" || die "could not install ${missing[*]}"
+  fi
+  command -v qemu-system-arm >/dev/null || die "qemu-system-arm is missing"
+}
+
+machine_of() { case "$1" in $M4) echo netduinoplus2 ;; $M0) echo microbit ;; esac; }
+
+# build NAME TARGET FEATURES-ARGS SCENE W H SPP SEED: builds one variant, copies its ELF to
+# $WORK/NAME.elf. FEATURES-ARGS is e.g. "", "--features rtt", "--no-default-features --features rtt".
+build() {
+  local name=$1 target=$2 feats=$3 scene=$4 w=$5 h=$6 spp=$7 seed=$8
+  mkdir -p "$WORK"
+  # shellcheck disable=SC2086
+  if ! (cd "$FW" && CARGO_TARGET_DIR="$TD" PICOMIS_SCENE="$scene" PICOMIS_WIDTH="$w" PICOMIS_HEIGHT="$h" \
+      PICOMIS_SPP="$spp" PICOMIS_SEED="$seed" PICOMIS_OUT="$name.rgb565" \
+      cargo build --release --quiet --target "$target" $feats) >"$WORK/$name.build.log" 2>&1; then
+    cat "$WORK/$name.build.log" >&2
+    return 1
+  fi
+  cp "$TD/$target/release/picomis-firmware" "$WORK/$name.elf"
+}
+
+# run NAME TARGET [extra qemu args]: runs $WORK/NAME.elf under QEMU in $WORK (output file and
+# log land there); returns QEMU's exit status (the firmware's SYS_EXIT_EXTENDED code).
+run_qemu() {
+  local name=$1 target=$2
+  shift 2
+  rm -f "$WORK/$name.rgb565"
+  (cd "$WORK" && timeout "$QEMU_TIMEOUT" qemu-system-arm -machine "$(machine_of "$target")" -nographic \
+    -monitor none -serial null -semihosting-config enable=on,target=native -icount shift=0 "$@" \
+    -kernel "$name.elf") >"$WORK/$name.log" 2>&1
+}
+
+host_sim() {
+  if [ -n "${PICOMIS_SIM:-}" ]; then
+    echo "$PICOMIS_SIM"
+    return
+  fi
+  if [ -z "${HOST_SIM_BUILT:-}" ]; then
+    (cd "$ROOT" && CARGO_TARGET_DIR="$TD" cargo build --release --quiet -p picomis-sim) >&2 || return 1
+    HOST_SIM_BUILT=1
+  fi
+  echo "$TD/release/picomis-sim"
+}
+
+PASSED=0
+FAILED=0
+pass() { PASSED=$((PASSED + 1)); say "PASS $*"; }
+fail() { FAILED=$((FAILED + 1)); say "FAIL $*"; }
+
+# check_render NAME TARGET FEATURES SCENE W H SPP SEED: build, run under QEMU, check the exit
+# status and the log, and compare the framebuffer with the host's render of the same scene.
+check_render() {
+  local name=$1 target=$2 feats=$3 scene=$4 w=$5 h=$6 spp=$7 seed=$8 rc sim
+  if ! build "$@"; then
+    fail "$name: build ($target $feats)"
+    return
+  fi
+  run_qemu "$name" "$target"
+  rc=$?
+  if [ $rc -ne 0 ]; then
+    fail "$name: QEMU exit status $rc (log: $WORK/$name.log)"
+    tail -n 20 "$WORK/$name.log"
+    return
+  fi
+  if [ "$feats" = "" ] && ! grep -q "^rendered $((w * h)) pixels" "$WORK/$name.log"; then
+    fail "$name: no render statistics in the log"
+    return
+  fi
+  if [ "$(stat -c %s "$WORK/$name.rgb565" 2>/dev/null)" != "$((w * h * 2))" ]; then
+    fail "$name: framebuffer file missing or not $((w * h * 2)) bytes"
+    return
+  fi
+  if ! sim=$(host_sim); then
+    fail "$name: could not build picomis-sim"
+    return
+  fi
+  if ! "$sim" render "$ROOT/$scene" --width "$w" --height "$h" --spp "$spp" --seed "$seed" \
+      --out "$WORK/$name.host.rgb565" >"$WORK/$name.host.log" 2>&1; then
+    fail "$name: host render failed: $(tail -n 3 "$WORK/$name.host.log")"
+    return
+  fi
+  if cmp "$WORK/$name.rgb565" "$WORK/$name.host.rgb565"; then
+    pass "$name: $target ${feats:-(qemu)} $scene ${w}x${h} spp $spp seed $seed: QEMU framebuffer == host"
+  else
+    fail "$name: QEMU framebuffer differs from the host render"
+  fi
+}
+
+check_build() { # NAME TARGET FEATURES
+  if build "$1" "$2" "$3" "$VEACH" 64 48 1 0; then
+    pass "$1: $2 $3 builds"
+  else
+    fail "$1: $2 $3 does not build"
+  fi
+}
+
+cmd_test() {
+  local start=$SECONDS scenes=("$VEACH")
+  setup
+  [ -f "$ROOT/$LAMBERT" ] && scenes+=("$LAMBERT")
+  step "firmware: builds, QEMU runs and host comparison (work dir $WORK)"
+  # Cortex-M4F, 160x120.
+  check_render m4-veach $M4 "" "$VEACH" 160 120 1 0
+  check_render m4-veach-rtt $M4 "--features rtt" "$VEACH" 160 120 1 0
+  [ ${#scenes[@]} -gt 1 ] && check_render m4-lambert $M4 "" "$LAMBERT" 160 120 1 0
+  check_render m4-veach-spp $M4 "" "$VEACH" 48 32 3 7
+  check_build m4-board-rtt $M4 "--no-default-features --features rtt"
+  # Cortex-M0, 64x48 (16 KiB RAM).
+  check_render m0-veach $M0 "" "$VEACH" 64 48 1 0
+  check_render m0-veach-rtt $M0 "--features rtt" "$VEACH" 64 48 1 0
+  [ ${#scenes[@]} -gt 1 ] && check_render m0-lambert $M0 "" "$LAMBERT" 64 48 1 0
+  check_build m0-board-rtt $M0 "--no-default-features --features rtt"
+  say "firmware tests took $((SECONDS - start)) s"
+  say "firmware: $PASSED passed, $FAILED failed"
+  [ "$FAILED" -eq 0 ]
+}
+
+# Section sizes of an ELF: prints "vector text rodata data bss uninit".
+sections() {
+  arm-none-eabi-size -A "$1" | awk '
+    $1==".vector_table"{v=$2} $1==".text"{t=$2} $1==".rodata"{r=$2} $1==".data"{d=$2}
+    $1==".bss"{b=$2} $1==".uninit"{u=$2}
+    END{printf "%d %d %d %d %d %d\n", v, t, r, d, b, u}'
+}
+
+symbol_size() { # ELF SYMBOL-SUBSTRING
+  local hex
+  hex=$(arm-none-eabi-nm -S -C "$1" | awk -v s="$2" 'index($0, s) && NF>=4 {print $2; exit}')
+  echo $((16#${hex:-0}))
+}
+
+report_size() { # NAME TARGET LABEL
+  local elf="$WORK/$1.elf" v t r d b u fb ram
+  read -r v t r d b u < <(sections "$elf")
+  fb=$(symbol_size "$elf" "FRAMEBUFFER")
+  fb=${fb:-0}
+  ram=$((d + b + u - fb))
+  printf '%-34s text %6d  rodata %5d  vectors %4d  flash %6d | data %4d  bss %6d  framebuffer %6d  RAM besides framebuffer %5d\n' \
+    "$3" "$t" "$r" "$v" $((v + t + r + d)) "$d" "$b" "$fb" "$ram"
+}
+
+cmd_measure() {
+  setup binutils
+  step "measure: builds (release: lto fat, codegen-units 1)"
+  build m4-size $M4 "" "$VEACH" 160 120 1 0 || die "build failed"
+  build m4-size-board $M4 "--no-default-features --features rtt" "$VEACH" 160 120 1 0 || die "build failed"
+  build m0-size $M0 "" "$VEACH" 64 48 1 0 || die "build failed"
+  build m0-size-board $M0 "--no-default-features --features rtt" "$VEACH" 64 48 1 0 || die "build failed"
+  # Instruction counts: the Veach scene at 64x48, 1 spp, on both cores (the same work).
+  build m4-measure $M4 "--features measure" "$VEACH" 64 48 1 0 || die "build failed"
+  build m0-measure $M0 "--features measure" "$VEACH" 64 48 1 0 || die "build failed"
+
+  step "measure: size (bytes; targets: text <= 32768, RAM besides the framebuffer <= 4096)"
+  report_size m4-size $M4 "M4F qemu (semihosting text) 160x120"
+  report_size m4-size-board $M4 "M4F board (defmt-rtt) 160x120"
+  report_size m0-size $M0 "M0 qemu (semihosting text) 64x48"
+  report_size m0-size-board $M0 "M0 board (defmt-rtt) 64x48"
+
+  step "measure: peak stack (stack painting; target <= 4096 bytes)"
+  local n
+  for n in m4-size m0-size m4-measure m0-measure; do
+    local target=$M4
+    [[ $n == m0-* ]] && target=$M0
+    run_qemu "$n" "$target" || die "$n: QEMU exit status $? (log $WORK/$n.log)"
+    printf '%-12s %s | %s\n' "$n" "$(grep -m1 '^stack peak' "$WORK/$n.log")" "$(grep -m1 '^stack after' "$WORK/$n.log")"
+  done
+
+  step "measure: instructions per camera sample (Veach, 1 light + 1 BSDF sample, power heuristic; targets M4F <= 2000, M0 <= 20000)"
+  for n in m4-measure m0-measure; do
+    say "-- $n"
+    grep '^measure:' "$WORK/$n.log"
+  done
+}
+
+cmd_lint() {
+  setup
+  local t f rc=0
+  (cd "$ROOT" && cargo fmt -p picomis-firmware -- --check) || rc=1
+  for t in $M4 $M0; do
+    for f in "" "--features rtt" "--no-default-features --features rtt" "--features measure"; do
+      # shellcheck disable=SC2086
+      (cd "$FW" && CARGO_TARGET_DIR="$TD" cargo clippy --quiet --release --target $t $f -- -D warnings) || rc=1
+    done
+  done
+  return $rc
+}
+
+case "${1:-}" in
+  setup) setup binutils ;;
+  test) cmd_test ;;
+  measure) cmd_measure ;;
+  lint) cmd_lint ;;
+  *)
+    sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'
+    exit 2
+    ;;
+esac
