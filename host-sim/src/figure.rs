@@ -1,0 +1,218 @@
+//! The seed lecture's MIS figure as one labelled PNG: each technique alone, the arithmetic
+//! average, the balance, power and maximum heuristics, then the balance render's per-technique
+//! MIS weights (false colour with a legend) and weighted contributions.
+
+use embedded_graphics_core::pixelcolor::RgbColor;
+use picomis::{Estimate, RenderSettings, Rgb, tone_map};
+use picomis_format::parse_method;
+
+use crate::SimError;
+use crate::render::{Batch, Estimates, RenderBatch};
+use crate::scenes::Loaded;
+use crate::text::{Canvas, draw_text, text_width};
+
+/// The renders of the figure: method name for `parse_method` and panel label.
+pub const METHODS: [(&str, &str); 6] = [
+    ("bsdf", "(a) BSDF sampling alone"),
+    ("light", "(b) light sampling alone"),
+    ("average", "(c) arithmetic average"),
+    ("balance", "(d) balance heuristic"),
+    ("power", "(e) power heuristic, \u{3b2} = 2"),
+    ("maximum", "(f) maximum heuristic"),
+];
+
+/// Index in [`METHODS`] of the render whose weights and contributions are shown.
+const BALANCE: usize = 3;
+
+const BACKGROUND: [u8; 3] = [255, 255, 255];
+const INK: [u8; 3] = [20, 20, 20];
+const MUTED: [u8; 3] = [90, 90, 90];
+/// Weight-image colour of pixels where no sample of the technique found light.
+pub const NO_LIGHT: [u8; 3] = [128, 128, 128];
+
+const MARGIN: u32 = 14;
+const LABEL: u32 = 28;
+const LABEL_SIZE: f32 = 18.0;
+const MIN_PANEL_WIDTH: u32 = 300;
+
+/// Viridis (perceptually uniform, readable in grey and by colour-blind readers), sampled at
+/// 0, 1/8, ..., 1.
+const VIRIDIS: [[u8; 3]; 9] = [
+    [68, 1, 84],
+    [71, 44, 122],
+    [59, 81, 139],
+    [44, 113, 142],
+    [33, 144, 141],
+    [39, 173, 129],
+    [92, 200, 99],
+    [170, 220, 50],
+    [253, 231, 37],
+];
+
+/// False colour of a weight in [0, 1].
+pub fn weight_color(w: f32) -> [u8; 3] {
+    let t = if w.is_finite() { w.clamp(0.0, 1.0) } else { 0.0 } * 8.0;
+    let i = (t as usize).min(7);
+    let f = t - i as f32;
+    let (a, b) = (VIRIDIS[i], VIRIDIS[i + 1]);
+    [0, 1, 2].map(|k| (f32::from(a[k]) * (1.0 - f) + f32::from(b[k]) * f + 0.5) as u8)
+}
+
+fn srgb(c: Rgb) -> [u8; 3] {
+    let t = tone_map(c);
+    [t.r(), t.g(), t.b()]
+}
+
+/// One panel's pixels at film resolution.
+fn panel(img: &Estimates, f: impl Fn(&Estimate) -> [u8; 3]) -> Vec<[u8; 3]> {
+    img.pixels.iter().map(f).collect()
+}
+
+/// Nearest-neighbour upscale by an integer factor.
+fn upscale(src: &[[u8; 3]], w: u32, h: u32, k: u32) -> Vec<[u8; 3]> {
+    let mut out = Vec::with_capacity((w * h * k * k) as usize);
+    for y in 0..h * k {
+        for x in 0..w * k {
+            out.push(src[((y / k) * w + x / k) as usize]);
+        }
+    }
+    out
+}
+
+/// The settings of the figure's renders for `loaded`'s scene: its sample counts, `spp`, `seed`.
+pub fn figure_settings(loaded: &Loaded, spp: u32, seed: u32) -> Result<Vec<RenderSettings>, SimError> {
+    let (n_light, n_bsdf) = loaded.file.default_samples();
+    METHODS
+        .iter()
+        .map(|(name, _)| {
+            let method = parse_method(name, 2.0, 0.1).map_err(SimError::Usage)?;
+            RenderSettings::new(method, n_light.max(1), n_bsdf.max(1), spp, seed)
+                .map_err(|e| SimError::Usage(format!("settings: {e}")))
+        })
+        .collect()
+}
+
+/// Renders the figure's six images of `loaded`'s scene at `spp` and composes the figure.
+pub fn render_figure(loaded: &Loaded, spp: u32, seed: u32) -> Result<(Canvas, Batch), SimError> {
+    let settings = figure_settings(loaded, spp, seed)?;
+    let film = loaded.file.film();
+    let batch = loaded.visit(film, RenderBatch { settings: &settings, message: "figure" })?;
+    let (n_light, n_bsdf) = settings[BALANCE].technique_samples();
+    let caption = format!(
+        "{}: {}x{}, {spp} camera samples per pixel, each with {n_light} light + {n_bsdf} BSDF sample{}, seed {seed}",
+        loaded.file.name(),
+        film.width(),
+        film.height(),
+        if n_bsdf == 1 { "" } else { "s" },
+    );
+    Ok((compose(&batch.images, &caption), batch))
+}
+
+/// Lays out the figure from the six renders of [`METHODS`] (same film).
+pub fn compose(images: &[Estimates], caption: &str) -> Canvas {
+    let (w, h) = (images[0].width, images[0].height);
+    let k = MIN_PANEL_WIDTH.div_ceil(w).max(1);
+    let (pw, ph) = (w * k, h * k);
+    let columns = 4;
+    let title_h = 74;
+    let row_h = LABEL + ph + MARGIN;
+    let width = columns * pw + (columns + 1) * MARGIN;
+    let height = title_h + 3 * row_h + 10;
+    let mut canvas = Canvas::new(width, height, BACKGROUND);
+
+    draw_text(&mut canvas, MARGIN as f32, 10.0, 26.0, "Multiple importance sampling: direct lighting", INK);
+    draw_text(&mut canvas, MARGIN as f32, 44.0, 17.0, caption, MUTED);
+
+    let put_panel = |canvas: &mut Canvas, row: u32, col: u32, label: &str, pixels: Vec<[u8; 3]>| {
+        let x = MARGIN + col * (pw + MARGIN);
+        let y = title_h + row * row_h;
+        draw_text(canvas, x as f32, y as f32 + 3.0, LABEL_SIZE, label, INK);
+        canvas.blit(i64::from(x), i64::from(y + LABEL), pw, ph, &upscale(&pixels, w, h, k));
+    };
+
+    for (i, (img, (_, label))) in images.iter().zip(METHODS).enumerate() {
+        let (row, col) = if i < 4 { (0, i as u32) } else { (1, i as u32 - 4) };
+        put_panel(&mut canvas, row, col, label, panel(img, |e| srgb(e.radiance())));
+    }
+    let balance = &images[BALANCE];
+    let weight =
+        |t: &picomis::TechniqueEstimate| if t.found > 0 { weight_color(t.mean_weight()) } else { NO_LIGHT };
+    put_panel(&mut canvas, 1, 2, "(g) weight of BSDF samples in (d)", panel(balance, |e| weight(&e.bsdf)));
+    put_panel(&mut canvas, 1, 3, "(h) weight of light samples in (d)", panel(balance, |e| weight(&e.light)));
+    put_panel(
+        &mut canvas,
+        2,
+        0,
+        "(i) BSDF samples' contribution to (d)",
+        panel(balance, |e| srgb(e.bsdf.contribution)),
+    );
+    put_panel(
+        &mut canvas,
+        2,
+        1,
+        "(j) light samples' contribution to (d)",
+        panel(balance, |e| srgb(e.light.contribution)),
+    );
+
+    // Legend and reading guide in the last two cells.
+    let x0 = MARGIN + 2 * (pw + MARGIN);
+    let y0 = title_h + 2 * row_h;
+    legend(&mut canvas, x0, y0, 2 * pw + MARGIN);
+    canvas
+}
+
+fn legend(canvas: &mut Canvas, x0: u32, y0: u32, width: u32) {
+    let (x0f, y0f) = (x0 as f32, y0 as f32);
+    draw_text(
+        canvas,
+        x0f,
+        y0f + 3.0,
+        LABEL_SIZE,
+        "MIS weight, (g) and (h): mean over the samples that found light",
+        INK,
+    );
+    let bar_w = width.min(520) - 40;
+    let (bx, by, bh) = (x0 + 10, y0 + LABEL + 8, 22);
+    for i in 0..bar_w {
+        let c = weight_color(i as f32 / (bar_w - 1) as f32);
+        canvas.fill(i64::from(bx + i), i64::from(by), 1, bh, c);
+    }
+    for t in 0..=4 {
+        let v = t as f32 / 4.0;
+        let tx = bx as f32 + v * (bar_w - 1) as f32;
+        canvas.fill(tx as i64, i64::from(by + bh), 1, 6, INK);
+        let s = format!("{v}");
+        let tw = text_width(&s, 15.0);
+        draw_text(canvas, tx - tw / 2.0, (by + bh + 7) as f32, 15.0, &s, INK);
+    }
+    let gy = by + bh + 34;
+    canvas.fill(i64::from(bx), i64::from(gy), 22, 18, NO_LIGHT);
+    draw_text(canvas, (bx + 30) as f32, gy as f32, 15.0, "no sample of that technique found light", INK);
+
+    let notes = [
+        "Each technique fails somewhere: BSDF sampling on small lights seen",
+        "in rough surfaces, light sampling on big lights seen in smooth ones.",
+        "(c) w = 1/2 keeps the noise of both (a) and (b).",
+        "(d) w_i = n_i p_i / \u{3a3}_k n_k p_k: good everywhere; (e), (f) are close.",
+        "(i) + (j) + emitted light = (d).",
+    ];
+    let mut y = (gy + 34) as f32;
+    for line in notes {
+        draw_text(canvas, (bx - 10) as f32, y, 16.0, line, INK);
+        y += 22.0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn weight_colors_span_viridis() {
+        assert_eq!(weight_color(0.0), VIRIDIS[0]);
+        assert_eq!(weight_color(1.0), VIRIDIS[8]);
+        assert_eq!(weight_color(0.5), VIRIDIS[4]);
+        assert_eq!(weight_color(f32::NAN), VIRIDIS[0]);
+        assert_ne!(weight_color(0.5), NO_LIGHT);
+    }
+}

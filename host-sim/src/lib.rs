@@ -1,0 +1,59 @@
+//! # picomis-sim
+//!
+//! The host side of picomis: renders `picomis-scene/1` files (or the built-in scenes) with the
+//! `no_std` kernel on all cores, writes PNG, EXR, PFM or raw RGB565 images, and draws the seed
+//! lecture's MIS figure. The binary `picomis-sim` is a thin command line over this library.
+//!
+//! Every pixel is `picomis::render_pixel`, whose random numbers depend only on the seed, the
+//! pixel and the camera sample: images do not depend on the number of threads.
+#![deny(missing_docs)]
+
+pub mod cli;
+pub mod figure;
+pub mod output;
+pub mod render;
+pub mod scenes;
+pub mod text;
+
+use std::fmt;
+
+use picomis_format::LoadError;
+
+/// Why a command failed.
+#[derive(Debug)]
+pub enum SimError {
+    /// A scene file is bad: printed as `file: entry: reason`.
+    Load(LoadError),
+    /// A bad command-line value.
+    Usage(String),
+    /// Writing the result failed.
+    Io(String),
+}
+
+impl SimError {
+    /// The process exit code: 2 for bad input (scene files and command-line values, like clap's
+    /// usage errors), 1 when the output could not be written.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            SimError::Load(_) | SimError::Usage(_) => 2,
+            SimError::Io(_) => 1,
+        }
+    }
+}
+
+impl fmt::Display for SimError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SimError::Load(e) => write!(f, "{e}"),
+            SimError::Usage(m) | SimError::Io(m) => f.write_str(m),
+        }
+    }
+}
+
+impl std::error::Error for SimError {}
+
+impl From<LoadError> for SimError {
+    fn from(e: LoadError) -> Self {
+        SimError::Load(e)
+    }
+}
