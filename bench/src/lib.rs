@@ -1,1 +1,276 @@
-//! Criterion benchmarks of picomis (see benches/).
+//! Shared setup of the picomis Criterion benchmarks (`benches/`): the built-in scenes loaded
+//! from `scenes/*.json`, the methods under study, tables of random numbers, and synthetic scenes
+//! for the scaling curves. Nothing here is timed; the benchmarks time kernel calls only.
+//!
+//! Run them with `cargo bench -p picomis-bench` (a few minutes on 2 cores); one group with e.g.
+//! `cargo bench -p picomis-bench --bench camera_sample -- veach_mis`.
+#![deny(missing_docs)]
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use picomis::{
+    CameraDesc, Film, FovAxis, LightSelection, Material, Method, RenderSettings, Rgb, Sampler, Scene, Shape,
+    SphereSampling, Vec2, Vec3,
+};
+use picomis_format::{SceneFile, parse_method};
+
+/// Criterion samples per benchmark (kept small: `cargo bench -p picomis-bench` takes minutes).
+pub const SAMPLE_SIZE: usize = 20;
+/// Criterion warm-up time per benchmark.
+pub const WARM_UP: Duration = Duration::from_millis(300);
+/// Criterion measurement time per benchmark.
+pub const MEASUREMENT: Duration = Duration::from_millis(900);
+
+/// A method under study: its label, the kernel method and the sphere-light sampling.
+#[derive(Clone, Copy, Debug)]
+pub struct StudyMethod {
+    /// Label used in benchmark ids and tables.
+    pub label: &'static str,
+    /// The combination.
+    pub method: Method,
+    /// How sphere lights are sampled.
+    pub spheres: SphereSampling,
+}
+
+/// The methods of the study, in the seed's order: BSDF sampling alone, light sampling alone with
+/// sphere lights sampled by area and by cone, then the heuristics (all with cone sampling):
+/// average, balance, power (beta 2), maximum and cutoff (alpha 0.1).
+pub fn methods() -> Vec<StudyMethod> {
+    let m = |name: &str| parse_method(name, 2.0, 0.1).expect("built-in method names parse");
+    let cone = SphereSampling::Cone;
+    vec![
+        StudyMethod { label: "bsdf", method: m("bsdf"), spheres: cone },
+        StudyMethod { label: "light_area", method: m("light"), spheres: SphereSampling::Area },
+        StudyMethod { label: "light_cone", method: m("light"), spheres: cone },
+        StudyMethod { label: "average", method: m("average"), spheres: cone },
+        StudyMethod { label: "balance", method: m("balance"), spheres: cone },
+        StudyMethod { label: "power", method: m("power"), spheres: cone },
+        StudyMethod { label: "maximum", method: m("maximum"), spheres: cone },
+        StudyMethod { label: "cutoff", method: m("cutoff"), spheres: cone },
+    ]
+}
+
+/// Settings of one camera sample of `m`: one light and one BSDF sample (as the built-in scenes'
+/// integrator blocks ask), 1 spp.
+pub fn settings(m: &StudyMethod) -> RenderSettings {
+    RenderSettings::new(m.method, 1, 1, 1, 0)
+        .expect("study methods have valid settings")
+        .with_sphere_sampling(m.spheres)
+}
+
+/// The workspace's `scenes/` folder.
+pub fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes")
+}
+
+/// Every built-in scene file, sorted by name.
+pub fn builtin_scenes() -> Vec<SceneFile> {
+    let dir = scenes_dir();
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    paths.sort();
+    paths.iter().map(|p| SceneFile::load(p).unwrap_or_else(|e| panic!("{e}"))).collect()
+}
+
+/// Capacities used for a scene file whose counts match none of [`for_scene!`]'s list.
+pub const GENEROUS: (usize, usize, usize) = (32, 16, 16);
+
+/// Calls `$f::<S, L, M>($file, $($arg),*)` with the exact capacities of the built-in scenes
+/// (their own counts, as a firmware build uses), or [`GENEROUS`] ones for any other counts.
+#[macro_export]
+macro_rules! for_scene {
+    ($file:expr, $f:ident $(, $arg:expr)*) => {{
+        let file: &picomis_format::SceneFile = $file;
+        let c = file.counts();
+        match (c.shapes, c.lights, c.materials) {
+            (11, 5, 6) => $f::<11, 5, 6>(file $(, $arg)*),
+            (7, 1, 4) => $f::<7, 1, 4>(file $(, $arg)*),
+            (2, 1, 2) => $f::<2, 1, 2>(file $(, $arg)*),
+            (5, 3, 4) => $f::<5, 3, 4>(file $(, $arg)*),
+            (4, 2, 3) => $f::<4, 2, 3>(file $(, $arg)*),
+            _ => $f::<32, 16, 16>(file $(, $arg)*),
+        }
+    }};
+}
+
+/// Builds `file` with capacities `S`, `L`, `M` (panics on a bad built-in scene: a bench setup
+/// error, not user data).
+pub fn build<const S: usize, const L: usize, const M: usize>(file: &SceneFile) -> Scene<S, L, M> {
+    file.build::<S, L, M>().unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Visits pixels in a scrambled order (a stride coprime with the pixel count), so every run of
+/// consecutive camera samples sees a representative mix of the image.
+#[derive(Clone, Debug)]
+pub struct PixelCycle {
+    width: u32,
+    pixels: u32,
+    stride: u32,
+    at: u32,
+    sample: u32,
+}
+
+impl PixelCycle {
+    /// A cycle over `film`'s pixels.
+    pub fn new(film: Film) -> Self {
+        let pixels = film.pixels();
+        let mut stride = 7919 % pixels.max(1);
+        while gcd(stride, pixels) != 1 {
+            stride += 1;
+        }
+        Self { width: film.width(), pixels, stride: stride.max(1), at: 0, sample: 0 }
+    }
+
+    /// The next pixel `(x, y)` and its camera sample index.
+    #[inline]
+    pub fn next_pixel(&mut self) -> (u32, u32, u32) {
+        let (p, sample) = (self.at, self.sample);
+        self.at = (self.at + self.stride) % self.pixels;
+        if self.at == 0 {
+            self.sample = self.sample.wrapping_add(1);
+        }
+        (p % self.width, p / self.width, sample)
+    }
+}
+
+fn gcd(mut a: u32, mut b: u32) -> u32 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+/// A table of random inputs for the sampling routines, cycled by index.
+#[derive(Clone, Debug)]
+pub struct Inputs {
+    /// Uniform points in [0, 1)^2.
+    pub u: Vec<Vec2>,
+    /// Uniform numbers in [0, 1).
+    pub u1: Vec<f32>,
+    /// Unit directions in the upper hemisphere (cosine-distributed), e.g. `wo`.
+    pub wo: Vec<Vec3>,
+    /// Unit directions in the upper hemisphere, independent of `wo`, e.g. `wi`.
+    pub wi: Vec<Vec3>,
+}
+
+/// Entries in an [`Inputs`] table (a power of two: indices wrap with a mask).
+pub const INPUTS: usize = 1024;
+
+impl Inputs {
+    /// A fixed table (seeded, the same on every run).
+    pub fn new() -> Self {
+        let mut s = Sampler::new(0xbe9c, 0, 0);
+        let u: Vec<Vec2> = (0..INPUTS).map(|_| s.next_2d()).collect();
+        let u1 = (0..INPUTS).map(|_| s.next_f32()).collect();
+        let wo = (0..INPUTS).map(|_| picomis::sampling::sample_cosine_hemisphere(s.next_2d())).collect();
+        let wi = (0..INPUTS).map(|_| picomis::sampling::sample_cosine_hemisphere(s.next_2d())).collect();
+        Self { u, u1, wo, wi }
+    }
+}
+
+impl Default for Inputs {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Capacities of the synthetic scaling scenes.
+pub const SYNTH_SHAPES: usize = 64;
+/// Light capacity of the synthetic scaling scenes.
+pub const SYNTH_LIGHTS: usize = 16;
+/// A synthetic scaling scene.
+pub type SynthScene = Scene<SYNTH_SHAPES, SYNTH_LIGHTS, 4>;
+
+/// A synthetic scene with `shapes` shapes, of which the first `lights` spheres emit: a diffuse
+/// floor quad, then spheres on a grid above it (alternately diffuse and glossy), seen from above
+/// at an angle. The total emitted power is the same for every `lights`. Needs
+/// `1 <= lights < shapes <= 64` and `lights <= 16`.
+pub fn synthetic_scene(shapes: usize, lights: usize) -> SynthScene {
+    assert!(lights >= 1 && lights < shapes && shapes <= SYNTH_SHAPES && lights <= SYNTH_LIGHTS);
+    let camera = CameraDesc {
+        origin: Vec3::new(0.0, 6.0, 9.0),
+        target: Vec3::new(0.0, 0.0, 0.0),
+        up: Vec3::Y,
+        fov_deg: 45.0,
+        fov_axis: FovAxis::Y,
+        near_clip: 0.0,
+    };
+    let film = Film::new(96, 64).expect("valid film");
+    let mut scene = SynthScene::new(camera, film).expect("valid camera");
+    let diffuse = scene.add_material(Material::lambertian(Rgb::splat(0.6)).expect("albedo")).expect("room");
+    let glossy =
+        scene.add_material(Material::ggx_conductor(0.1, Rgb::splat(0.9)).expect("ggx")).expect("room");
+    let black = scene.add_material(Material::lambertian(Rgb::ZERO).expect("albedo")).expect("room");
+    let floor = [
+        Vec3::new(-6.0, 0.0, 6.0),
+        Vec3::new(6.0, 0.0, 6.0),
+        Vec3::new(6.0, 0.0, -6.0),
+        Vec3::new(-6.0, 0.0, -6.0),
+    ];
+    scene.add_shape(Shape::quad(floor).expect("quad"), diffuse).expect("room");
+    // 63 spheres on a 9 x 7 grid; lights sit one unit higher than the others.
+    for i in 0..shapes - 1 {
+        let (gx, gz) = ((i % 9) as f32 - 4.0, (i / 9) as f32 - 3.0);
+        let emits = i < lights;
+        let (y, r) = if emits { (1.8, 0.2) } else { (0.35, 0.3) };
+        let shape = Shape::sphere(Vec3::new(gx * 1.2, y, gz * 1.2), r).expect("sphere");
+        let material = if emits {
+            black
+        } else if i % 2 == 0 {
+            diffuse
+        } else {
+            glossy
+        };
+        let id = scene.add_shape(shape, material).expect("room");
+        if emits {
+            scene.add_area_light(id, Rgb::splat(40.0 / lights as f32)).expect("room");
+        }
+    }
+    scene
+}
+
+/// Light selections compared in the light-count curve.
+pub const SELECTIONS: [(&str, LightSelection); 2] =
+    [("uniform", LightSelection::Uniform), ("power", LightSelection::Power)];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pixel_cycle_visits_every_pixel_once_per_round() {
+        let film = Film::new(7, 5).unwrap();
+        let mut c = PixelCycle::new(film);
+        let mut seen = [0; 35];
+        for _ in 0..35 {
+            let (x, y, s) = c.next_pixel();
+            assert_eq!(s, 0);
+            seen[(y * 7 + x) as usize] += 1;
+        }
+        assert!(seen.iter().all(|&n| n == 1));
+        assert_eq!(c.next_pixel().2, 1);
+    }
+
+    #[test]
+    fn builtin_scenes_build_and_synthetic_scenes_hold_their_counts() {
+        fn counts<const S: usize, const L: usize, const M: usize>(f: &SceneFile) -> (usize, usize) {
+            let s = build::<S, L, M>(f);
+            (s.objects().len(), s.lights().len())
+        }
+        let scenes = builtin_scenes();
+        assert!(scenes.len() >= 5);
+        for f in &scenes {
+            let (s, l) = for_scene!(f, counts);
+            assert_eq!((s, l), (f.counts().shapes, f.counts().lights), "{}", f.name());
+        }
+        let s = synthetic_scene(64, 16);
+        assert_eq!((s.objects().len(), s.lights().len()), (64, 16));
+        let s = synthetic_scene(2, 1);
+        assert_eq!((s.objects().len(), s.lights().len()), (2, 1));
+        assert_eq!(methods().len(), 8);
+    }
+}

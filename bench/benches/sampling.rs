@@ -1,0 +1,165 @@
+//! The cost of each sampling routine: `picomis::sampling::*`, `Material::sample/eval/pdf`,
+//! `Light::sample_li/pdf_li`, the MIS weights, the sampler, and `Scene::intersect` /
+//! `Scene::unoccluded` on the Veach scene. Inputs cycle through fixed tables of random numbers.
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use picomis::sampling::*;
+use picomis::{Heuristic, Light, Material, Rgb, Sampler, Shape, SphereSampling, SurfacePoint, Vec3};
+use picomis_bench::{INPUTS, Inputs, MEASUREMENT, SAMPLE_SIZE, WARM_UP, build, builtin_scenes};
+
+const MASK: usize = INPUTS - 1;
+
+/// Benchmarks `f(i)` for i cycling through the input tables.
+fn cycle<T>(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+    mut f: impl FnMut(usize) -> T,
+) {
+    let mut i = 0usize;
+    group.bench_function(name, |b| {
+        b.iter(|| {
+            i = (i + 1) & MASK;
+            black_box(f(black_box(i)))
+        })
+    });
+}
+
+fn routines(c: &mut Criterion) {
+    let t = Inputs::new();
+    let mut g = c.benchmark_group("sampling");
+    g.throughput(Throughput::Elements(1));
+    cycle(&mut g, "sample_concentric_disk", |i| sample_concentric_disk(t.u[i]));
+    cycle(&mut g, "sample_cosine_hemisphere", |i| sample_cosine_hemisphere(t.u[i]));
+    cycle(&mut g, "cosine_hemisphere_pdf", |i| cosine_hemisphere_pdf(t.wi[i].z));
+    cycle(&mut g, "sample_uniform_sphere", |i| sample_uniform_sphere(t.u[i]));
+    cycle(&mut g, "cone_one_minus_cos", |i| cone_one_minus_cos(t.u1[i] * 0.5));
+    cycle(&mut g, "sample_uniform_cone", |i| sample_uniform_cone(t.u[i], 0.05));
+    cycle(&mut g, "uniform_cone_pdf", |i| uniform_cone_pdf(t.u1[i] * 0.1));
+    cycle(&mut g, "ggx_d", |i| ggx_d(t.wi[i], 0.05));
+    cycle(&mut g, "ggx_g1", |i| ggx_g1(t.wi[i], 0.05));
+    cycle(&mut g, "sample_ggx_vndf", |i| sample_ggx_vndf(t.wo[i], 0.05, t.u[i]));
+    cycle(&mut g, "ggx_vndf_pdf", |i| ggx_vndf_pdf(t.wo[i], t.wi[i], 0.05));
+    let weights: Vec<f32> = (0..16).map(|k| 1.0 + k as f32).collect();
+    let total: f32 = weights.iter().sum();
+    cycle(&mut g, "sample_discrete_16", |i| sample_discrete(&weights, total, t.u1[i]));
+    cycle(&mut g, "discrete_pdf_16", |i| discrete_pdf(&weights, total, i & 15));
+    let mut sampler = Sampler::new(1, 2, 3);
+    cycle(&mut g, "sampler_new_next_2d", |i| {
+        sampler = Sampler::new(7, i as u32, 0);
+        sampler.next_2d()
+    });
+    g.finish();
+}
+
+fn materials(c: &mut Criterion) {
+    let t = Inputs::new();
+    let mut g = c.benchmark_group("material");
+    g.throughput(Throughput::Elements(1));
+    let list = [
+        ("lambertian", Material::lambertian(Rgb::splat(0.5)).unwrap()),
+        ("ggx_0.005", Material::ggx_conductor(0.005, Rgb::ONE).unwrap()),
+        ("ggx_0.1", Material::ggx_conductor(0.1, Rgb::ONE).unwrap()),
+    ];
+    for (name, m) in list {
+        cycle(&mut g, &format!("{name}/sample"), |i| m.sample(t.wo[i], t.u[i]));
+        cycle(&mut g, &format!("{name}/eval"), |i| m.eval(t.wo[i], t.wi[i]));
+        cycle(&mut g, &format!("{name}/pdf"), |i| m.pdf(t.wo[i], t.wi[i]));
+    }
+    g.finish();
+}
+
+fn lights(c: &mut Criterion) {
+    let t = Inputs::new();
+    let mut g = c.benchmark_group("light");
+    g.throughput(Throughput::Elements(1));
+    // Shading points on a 4 x 4 floor patch; lights 2 units above it.
+    let xs: Vec<Vec3> = t.u.iter().map(|u| Vec3::new(4.0 * u.x - 2.0, 0.0, 4.0 * u.y - 2.0)).collect();
+    let sphere = Shape::sphere(Vec3::new(0.0, 2.0, 0.0), 0.3).unwrap();
+    let quad = Shape::quad([
+        Vec3::new(-0.5, 2.0, -0.5),
+        Vec3::new(-0.5, 2.0, 0.5),
+        Vec3::new(0.5, 2.0, 0.5),
+        Vec3::new(0.5, 2.0, -0.5),
+    ])
+    .unwrap();
+    let area = Light::Area { shape: 0, radiance: Rgb::splat(10.0) };
+    let point = Light::Point { position: Vec3::new(0.0, 2.0, 0.0), intensity: Rgb::splat(10.0) };
+    let cases = [
+        ("sphere_area", area, Some(sphere), SphereSampling::Area),
+        ("sphere_cone", area, Some(sphere), SphereSampling::Cone),
+        ("quad", area, Some(quad), SphereSampling::Cone),
+        ("point", point, None, SphereSampling::Cone),
+    ];
+    for (name, light, shape, spheres) in cases {
+        cycle(&mut g, &format!("{name}/sample_li"), |i| {
+            light.sample_li(shape.as_ref(), xs[i], t.u[i], spheres)
+        });
+        // Points on the light seen from each x, as a BSDF ray would find them.
+        let ys: Vec<SurfacePoint> = (0..INPUTS)
+            .map(|i| {
+                let s = light.sample_li(shape.as_ref(), xs[i], t.u[(i + 1) & MASK], spheres);
+                let p = s.map_or(Vec3::new(0.0, 2.0, 0.0), |s| xs[i] + s.wi * s.distance);
+                SurfacePoint { p, n: shape.map_or(Vec3::Y, |sh| sh.normal_at(p)) }
+            })
+            .collect();
+        cycle(&mut g, &format!("{name}/pdf_li"), |i| light.pdf_li(shape.as_ref(), xs[i], &ys[i], spheres));
+    }
+    g.finish();
+}
+
+fn heuristics(c: &mut Criterion) {
+    let t = Inputs::new();
+    let mut g = c.benchmark_group("heuristic");
+    g.throughput(Throughput::Elements(1));
+    let list = [
+        ("average", Heuristic::Average),
+        ("balance", Heuristic::Balance),
+        ("power_2", Heuristic::Power { beta: 2.0 }),
+        ("power_1.5", Heuristic::Power { beta: 1.5 }),
+        ("maximum", Heuristic::Maximum),
+        ("cutoff_0.1", Heuristic::Cutoff { alpha: 0.1 }),
+    ];
+    for (name, h) in list {
+        cycle(&mut g, name, |i| h.weights([t.u[i].x * 10.0, t.u[i].y]));
+    }
+    g.finish();
+}
+
+fn scene_queries(c: &mut Criterion) {
+    let t = Inputs::new();
+    let file = builtin_scenes().into_iter().find(|f| f.name() == "veach_mis").expect("veach_mis scene");
+    let scene = build::<11, 5, 6>(&file);
+    let rays: Vec<_> = t.u.iter().map(|&u| scene.camera().ray(u).0).collect();
+    let hits: Vec<_> = rays.iter().map(|r| scene.intersect(r, 0.0, f32::INFINITY, None)).collect();
+    let mut g = c.benchmark_group("scene/veach_mis");
+    g.throughput(Throughput::Elements(1));
+    cycle(&mut g, "intersect_camera_ray", |i| scene.intersect(&rays[i], 0.0, f32::INFINITY, None));
+    // Shadow rays from the visible points towards the second light's centre.
+    let target = Vec3::new(-1.25, 0.0, 0.0);
+    let shadow: Vec<_> = hits
+        .iter()
+        .map(|h| {
+            let p = h.map_or(Vec3::new(0.0, -4.0, 0.0), |h| h.point.p);
+            let d = target - p;
+            (picomis::Ray { origin: p, dir: d.normalize() }, d.length(), h.map_or(0, |h| h.object))
+        })
+        .collect();
+    cycle(&mut g, "unoccluded_shadow_ray", |i| {
+        let (ray, dist, a) = &shadow[i];
+        scene.unoccluded(ray, *dist, *a, Some(7))
+    });
+    cycle(&mut g, "sample_light_cone", |i| {
+        let p = shadow[i].0.origin;
+        scene.sample_light(p, t.u1[i], t.u[i], SphereSampling::Cone, picomis::LightSelection::Uniform)
+    });
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(SAMPLE_SIZE).warm_up_time(WARM_UP).measurement_time(MEASUREMENT);
+    targets = routines, materials, lights, heuristics, scene_queries
+}
+criterion_main!(benches);

@@ -1,0 +1,56 @@
+//! How the cost of one camera sample (balance heuristic, one light and one BSDF sample) grows
+//! with the scene: against the number of shapes (one sphere light, 2 to 64 shapes) and against
+//! the number of lights (17 shapes, 1 to 16 of them emitting, lights chosen uniformly or by
+//! power). The kernel intersects every shape (no acceleration structure), so the first curve is
+//! expected to be linear; uniform light selection is O(1), selection by power a linear scan.
+
+use std::hint::black_box;
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use picomis::{Heuristic, Method, RenderSettings, camera_sample};
+use picomis_bench::{MEASUREMENT, PixelCycle, SAMPLE_SIZE, SELECTIONS, SynthScene, WARM_UP, synthetic_scene};
+
+fn balance() -> RenderSettings {
+    RenderSettings::new(Method::Mis(Heuristic::Balance), 1, 1, 1, 0).expect("valid settings")
+}
+
+fn run(b: &mut criterion::Bencher<'_>, scene: &SynthScene, settings: &RenderSettings) {
+    let mut pixels = PixelCycle::new(scene.film());
+    b.iter(|| {
+        let (x, y, s) = pixels.next_pixel();
+        black_box(camera_sample(scene, settings, x, y, s))
+    })
+}
+
+fn shapes(c: &mut Criterion) {
+    let mut group = c.benchmark_group("scaling/shapes");
+    group.throughput(Throughput::Elements(1));
+    let settings = balance();
+    for n in [2usize, 4, 8, 16, 32, 64] {
+        let scene = synthetic_scene(n, 1);
+        group.bench_with_input(BenchmarkId::from_parameter(n), &scene, |b, scene| run(b, scene, &settings));
+    }
+    group.finish();
+}
+
+fn lights(c: &mut Criterion) {
+    for (name, selection) in SELECTIONS {
+        let mut group = c.benchmark_group(format!("scaling/lights_{name}"));
+        group.throughput(Throughput::Elements(1));
+        let settings = balance().with_light_selection(selection);
+        for n in [1usize, 2, 4, 8, 16] {
+            let scene = synthetic_scene(17, n);
+            group.bench_with_input(BenchmarkId::from_parameter(n), &scene, |b, scene| {
+                run(b, scene, &settings)
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(SAMPLE_SIZE).warm_up_time(WARM_UP).measurement_time(MEASUREMENT);
+    targets = shapes, lights
+}
+criterion_main!(benches);
