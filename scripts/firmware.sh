@@ -216,7 +216,7 @@ cmd_measure() {
     local target=$M4
     [[ $n == m0-* ]] && target=$M0
     run_qemu "$n" "$target" || die "$n: QEMU exit status $? (log $WORK/$n.log)"
-    printf '%-12s %s | %s\n' "$n" "$(grep -m1 '^stack peak' "$WORK/$n.log")" "$(grep -m1 '^stack after' "$WORK/$n.log")"
+    printf '%-12s %s\n' "$n" "$(grep -m1 '^stack peak:' "$WORK/$n.log")"
   done
 
   step "measure: instructions per camera sample (Veach, 1 light + 1 BSDF sample, power heuristic; targets M4F <= 2000, M0 <= 20000)"

@@ -1,6 +1,7 @@
 //! Entry point: build the scene, render it progressively into the static framebuffer, log
 //! statistics, and (under QEMU) hand the framebuffer to the host and exit with a status.
 
+use core::mem::MaybeUninit;
 use core::ptr;
 
 use cortex_m_rt::{ExceptionFrame, entry, exception};
@@ -88,16 +89,34 @@ fn settings() -> Result<RenderSettings, picomis::SceneError> {
     Ok(s)
 }
 
+/// The scene, in .bss rather than on the stack.
+static mut SCENE: MaybeUninit<scene::SceneT> = MaybeUninit::uninit();
+
+/// Builds the scene into [`SCENE`] (once: called from `run` only). Kept out of line so that the
+/// builder's temporaries leave the stack before rendering starts.
+#[inline(never)]
+fn build_scene(film: Film) -> Result<&'static scene::SceneT, picomis::SceneError> {
+    let built = scene::build(film)?;
+    // SAFETY: called once, before any reference to SCENE exists.
+    Ok(unsafe { (*ptr::addr_of_mut!(SCENE)).write(built) })
+}
+
 fn run() -> u32 {
     if let Some(p) = cortex_m::Peripherals::take() {
         clock::start(p.SYST);
     }
-    info!("picomis-firmware: board {} (QEMU {}), scene {} from {}", config::BOARD, config::QEMU_MACHINE, scene::NAME, config::SCENE_FILE);
+    info!(
+        "picomis-firmware: board {} (QEMU {}), scene {} from {}",
+        config::BOARD,
+        config::QEMU_MACHINE,
+        scene::NAME,
+        config::SCENE_FILE
+    );
     let Ok(film) = Film::new(config::WIDTH, config::HEIGHT) else {
         info!("error: film {}x{} rejected", config::WIDTH, config::HEIGHT);
         return status::FILM;
     };
-    let scene = match scene::build(film) {
+    let scene = match build_scene(film) {
         Ok(s) => s,
         Err(_e) => {
             info!("error: scene {} could not be built", scene::NAME);
@@ -130,14 +149,20 @@ fn run() -> u32 {
     #[cfg(feature = "rtt")]
     defmt::println!("settings: {}", settings);
 
-    let (used, _) = stack::peak();
-    info!("stack after scene build: {} bytes (scene {} bytes)", used, core::mem::size_of::<scene::SceneT>() as u32);
+    // Peak stack of the scene build, then start over for the render and what follows.
+    let (build_peak, _) = stack::peak();
+    info!(
+        "stack peak of the scene build: {} bytes (scene {} bytes, in .bss)",
+        build_peak,
+        core::mem::size_of::<scene::SceneT>() as u32
+    );
+    stack::repaint();
 
     // SAFETY: `main` runs once and is the only code touching the framebuffer.
     let fb: &mut Fb = unsafe { &mut *ptr::addr_of_mut!(FRAMEBUFFER) };
     let start = clock::ticks();
     let tile = Size::new(config::TILE, config::TILE);
-    let Ok(stats) = picomis::render(&scene, &settings, tile, fb, |area, total: &RenderStats| {
+    let Ok(stats) = picomis::render(scene, &settings, tile, fb, |area, total: &RenderStats| {
         let right = area.top_left.x as u32 + area.size.width;
         if right >= config::WIDTH {
             let bottom = area.top_left.y as u32 + area.size.height;
@@ -150,7 +175,8 @@ fn run() -> u32 {
         stats.pixels,
         stats.camera_samples,
         ticks,
-        ticks / u64::from(stats.camera_samples.max(1))
+        // u32 division: u64 division is a library call.
+        u32::try_from(ticks).unwrap_or(u32::MAX) / stats.camera_samples.max(1)
     );
     #[cfg(feature = "rtt")]
     defmt::println!("stats: {}", stats);
@@ -168,37 +194,42 @@ fn run() -> u32 {
     }
 
     #[cfg(feature = "measure")]
-    crate::measure::run(&scene, &settings, fb);
+    crate::measure::run(scene, &settings, fb);
 
-    let (used, size) = stack::peak();
-    info!("stack peak: {} of {} bytes", used, size);
+    let (render_peak, size) = stack::peak();
+    info!(
+        "stack peak: {} of {} bytes (scene build {}, render and output {})",
+        build_peak.max(render_peak),
+        size,
+        build_peak,
+        render_peak
+    );
     status::OK
 }
 
 #[panic_handler]
-fn panic(_info: &core::panic::PanicInfo) -> ! {
+fn panic(info: &core::panic::PanicInfo) -> ! {
+    // The message is printed only when it is a plain string: formatting it would link core::fmt.
+    let message = info.message().as_str().unwrap_or("(formatted message)");
+    let (file, line) = info.location().map_or(("?", 0), |l| (l.file(), l.line()));
     #[cfg(feature = "rtt")]
-    defmt::error!("panic: {}", defmt::Display2Format(_info));
-    #[cfg(all(feature = "qemu", not(feature = "rtt")))]
-    cortex_m_semihosting::hprintln!("panic: {}", _info);
+    defmt::error!("panic at {=str}:{=u32}: {=str}", file, line, message);
+    #[cfg(not(feature = "rtt"))]
+    info!("panic at {}:{}: {}", file, line, message);
     #[cfg(feature = "qemu")]
     crate::semihosting::exit(status::PANIC);
     #[cfg(not(feature = "qemu"))]
-    loop {
-        cortex_m::asm::udf();
-    }
+    cortex_m::asm::udf()
 }
 
 #[exception]
-unsafe fn HardFault(_frame: &ExceptionFrame) -> ! {
+unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
     #[cfg(feature = "rtt")]
-    defmt::error!("HardFault at pc {=u32:#x}", _frame.pc());
-    #[cfg(all(feature = "qemu", not(feature = "rtt")))]
-    cortex_m_semihosting::hprintln!("HardFault at pc {:#x}", _frame.pc());
+    defmt::error!("HardFault at pc {=u32:#x}", frame.pc());
+    #[cfg(not(feature = "rtt"))]
+    info!("HardFault at pc {}", frame.pc());
     #[cfg(feature = "qemu")]
     crate::semihosting::exit(status::HARD_FAULT);
     #[cfg(not(feature = "qemu"))]
-    loop {
-        cortex_m::asm::udf();
-    }
+    cortex_m::asm::udf()
 }

@@ -26,7 +26,9 @@ macro_rules! info {
 }
 #[cfg(all(target_os = "none", not(feature = "rtt"), feature = "qemu"))]
 macro_rules! info {
-    ($($t:tt)*) => { cortex_m_semihosting::hprintln!($($t)*) };
+    ($fmt:literal $(, $arg:expr)* $(,)?) => {
+        $crate::textlog::print($fmt, &[$(&$arg as &dyn $crate::textlog::Arg),*])
+    };
 }
 #[cfg(all(target_os = "none", not(feature = "rtt"), not(feature = "qemu")))]
 macro_rules! info {
@@ -47,3 +49,5 @@ mod measure;
 mod semihosting;
 #[cfg(target_os = "none")]
 mod stack;
+#[cfg(all(target_os = "none", not(feature = "rtt"), feature = "qemu"))]
+mod textlog;

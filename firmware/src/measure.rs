@@ -80,10 +80,7 @@ pub fn run(scene: &SceneT, settings: &RenderSettings, fb: &mut Fb) {
         }
     });
     let sample_instr = instructions(full.saturating_sub(base), cal);
-    info!(
-        "measure: film {}x{}, {} spp, {} repeats: {} camera samples",
-        w, h, spp, repeat, samples
-    );
+    info!("measure: film {}x{}, {} spp, {} repeats: {} camera samples", w, h, spp, repeat, samples);
     per("camera_sample: per camera sample", sample_instr, samples);
 
     // Whole tiles: camera samples plus averaging, tone mapping and the Rgb565 store.

@@ -28,3 +28,25 @@ pub fn peak() -> (u32, u32) {
     }
     ((top - p) as u32, (top - bottom) as u32)
 }
+
+/// Bytes kept unpainted below the stack pointer by [`repaint`]: this function's own frame and an
+/// exception frame (with FPU state) that may land there.
+const REPAINT_MARGIN: usize = 256;
+
+/// Paints the free stack again (all of it below the current stack pointer minus a margin), so
+/// that a later [`peak`] reports the high-water mark of what runs after this call only.
+#[inline(never)]
+pub fn repaint() {
+    let (bottom, _) = region();
+    cortex_m::interrupt::free(|_| {
+        let sp = cortex_m::register::msp::read() as usize;
+        let end = sp.saturating_sub(REPAINT_MARGIN) & !3;
+        let mut p = bottom;
+        while p < end {
+            // SAFETY: [bottom, sp - margin) is stack memory below every live frame, and no
+            // exception can push a frame while interrupts are off.
+            unsafe { ptr::write_volatile(p as *mut u32, PAINT) };
+            p += 4;
+        }
+    });
+}
