@@ -179,8 +179,15 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
         _ => (2.0, 0.1),
     };
     let name = args.mis.as_deref().unwrap_or(method_name(scene_method));
+    let mut flags = format!("--mis {name}");
+    if let Some(beta) = args.beta {
+        flags += &format!(" --beta {beta}");
+    }
+    if let Some(alpha) = args.alpha {
+        flags += &format!(" --alpha {alpha}");
+    }
     let method = parse_method(name, args.beta.unwrap_or(scene_beta), args.alpha.unwrap_or(scene_alpha))
-        .map_err(|e| usage(format!("--mis {name}: {e}")))?;
+        .map_err(|e| usage(format!("{flags}: {e}")))?;
     if let Some(beta) = args.beta {
         if !matches!(method, Method::Mis(Heuristic::Power { .. })) {
             return Err(usage(format!(
