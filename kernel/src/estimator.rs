@@ -136,7 +136,7 @@ pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
             continue;
         };
         let wi = frame.to_local(ls.wi);
-        let f = bsdf.eval(wo, wi);
+        let (f, p_bsdf) = bsdf.eval_pdf(wo, wi);
         if f == Rgb::ZERO || ls.radiance == Rgb::ZERO {
             continue;
         }
@@ -145,11 +145,8 @@ pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
             continue;
         }
         // A delta light cannot be hit by a BSDF sample: its weight is one.
-        let w = if ls.delta {
-            1.0
-        } else {
-            method.weight(Technique::Light, n_light * ls.pdf, n_bsdf * bsdf.pdf(wo, wi))
-        };
+        let w =
+            if ls.delta { 1.0 } else { method.weight(Technique::Light, n_light * ls.pdf, n_bsdf * p_bsdf) };
         by_light.add(f * ls.radiance * (w / (n_light * ls.pdf)), w);
     }
 
@@ -158,18 +155,13 @@ pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
     for _ in 0..n_b {
         let Some(bs) = bsdf.sample(wo, sampler.next_2d()) else { continue };
         let ray = Ray { origin: p, dir: frame.to_world(bs.wi) };
-        let Some(y) = scene.intersect(&ray, 0.0, f32::INFINITY, Some(x.object)) else {
-            continue;
-        };
-        let Some((light_index, Light::Area { radiance, .. })) = scene.emitter(y.object) else {
-            continue;
-        };
-        if !y.front || *radiance == Rgb::ZERO {
+        let Some((y, light_index, radiance)) = scene.emitter_hit(&ray, x.object) else { continue };
+        if radiance == Rgb::ZERO {
             continue;
         }
         let p_light = scene.light_pdf(light_index, p, &y.point, spheres, selection);
         let w = method.weight(Technique::Bsdf, n_light * p_light, n_bsdf * bs.pdf);
-        by_bsdf.add(bs.weight * *radiance * (w / n_bsdf), w);
+        by_bsdf.add(bs.weight * radiance * (w / n_bsdf), w);
     }
     (by_light, by_bsdf)
 }

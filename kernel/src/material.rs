@@ -4,9 +4,7 @@
 
 use crate::error::{Field, SceneError};
 use crate::math::{INV_PI, Rgb, Vec2, Vec3, finite3};
-use crate::sampling::{
-    cosine_hemisphere_pdf, ggx_d, ggx_g1, ggx_vndf_pdf, sample_cosine_hemisphere, sample_ggx_vndf,
-};
+use crate::sampling::{cosine_hemisphere_pdf, ggx_d, ggx_g1, sample_cosine_hemisphere, sample_ggx_vndf};
 
 /// The closed set of materials.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -77,41 +75,36 @@ impl Material {
     /// f(wo, wi) cos(theta_i).
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        if wo.z <= 0.0 || wi.z <= 0.0 {
-            return Rgb::ZERO;
-        }
-        match *self {
-            Material::Lambertian { albedo } => albedo * (INV_PI * wi.z),
-            Material::GgxConductor { alpha, reflectance } => {
-                let Some(m) = (wo + wi).try_normalize() else {
-                    return Rgb::ZERO;
-                };
-                let d = ggx_d(m, alpha);
-                let g = ggx_g1(wi, alpha) * ggx_g1(wo, alpha);
-                // f cos_i = R D G / (4 cos_o); the microfacet normal is above the horizon here.
-                reflectance * (d * g / (4.0 * wo.z))
-            }
-        }
+        self.eval_pdf(wo, wi).0
     }
 
     /// Pdf per unit solid angle with which [`Material::sample`] draws `wi`.
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.eval_pdf(wo, wi).1
+    }
+
+    /// f(wo, wi) cos(theta_i) and the pdf of `wi`, sharing the half vector, D and G1(wo).
+    #[inline]
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Rgb, f32) {
         if wo.z <= 0.0 || wi.z <= 0.0 {
-            return 0.0;
+            return (Rgb::ZERO, 0.0);
         }
         match *self {
-            Material::Lambertian { .. } => cosine_hemisphere_pdf(wi.z),
-            Material::GgxConductor { alpha, .. } => {
+            Material::Lambertian { albedo } => (albedo * (INV_PI * wi.z), cosine_hemisphere_pdf(wi.z)),
+            Material::GgxConductor { alpha, reflectance } => {
                 let Some(m) = (wo + wi).try_normalize() else {
-                    return 0.0;
+                    return (Rgb::ZERO, 0.0);
                 };
-                // Reflection Jacobian dm/dwi = 1 / (4 wo.m).
-                let wo_m = wo.dot(m);
-                if wo_m <= 0.0 {
-                    return 0.0;
-                }
-                ggx_vndf_pdf(wo, m, alpha) / (4.0 * wo_m)
+                // Both directions are above the horizon, so wo.m = wi.m > 0 and m.z > 0.
+                let d = ggx_d(m, alpha);
+                let g1_wo = ggx_g1(wo, alpha);
+                // f cos_i = R D G1(wi) G1(wo) / (4 cos_o).
+                let f = reflectance * (d * g1_wo * ggx_g1(wi, alpha) / (4.0 * wo.z));
+                // Visible normals, times the reflection Jacobian 1 / (4 wo.m):
+                // G1(wo) (wo.m) D / cos_o / (4 wo.m) = G1(wo) D / (4 cos_o).
+                let pdf = g1_wo * d / (4.0 * wo.z);
+                (f, pdf)
             }
         }
     }
@@ -140,7 +133,8 @@ impl Material {
                 if wi.z <= 0.0 {
                     return None;
                 }
-                let pdf = ggx_vndf_pdf(wo, m, alpha) / (4.0 * wo_m);
+                // The same expression as `eval_pdf`, so both techniques' weights see equal pdfs.
+                let pdf = ggx_g1(wo, alpha) * ggx_d(m, alpha) / (4.0 * wo.z);
                 if !(pdf > 0.0) || !pdf.is_finite() {
                     return None;
                 }

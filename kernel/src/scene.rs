@@ -229,6 +229,43 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         Some(Hit { t, object, point: SurfacePoint { p, n }, front: n.dot(ray.dir) < 0.0 })
     }
 
+    /// The first surface along `ray` (ignoring object `skip`) if it is an emitter's front side:
+    /// the emitting hit and its light index. Cheaper than [`Scene::intersect`]: the closest
+    /// emitter is found first, then only an any-hit occlusion test runs up to it, so rays that
+    /// miss every light test only the emitters.
+    #[inline]
+    pub fn emitter_hit(&self, ray: &Ray, skip: usize) -> Option<(Hit, usize, Rgb)> {
+        let mut best: Option<(f32, usize, usize, Rgb)> = None;
+        let mut t_far = f32::INFINITY;
+        for (light_index, light) in self.lights.iter().enumerate() {
+            let Light::Area { shape, radiance } = *light else { continue };
+            let object = usize::from(shape);
+            if object == skip {
+                continue;
+            }
+            let Some(o) = self.objects.get(object) else { continue };
+            if let Some(t) = o.shape.intersect(ray, 0.0, t_far) {
+                t_far = t;
+                best = Some((t, object, light_index, radiance));
+            }
+        }
+        let (t, object, light_index, radiance) = best?;
+        let shape = &self.objects.get(object)?.shape;
+        let p = ray.at(t);
+        let n = shape.normal_at(p);
+        if !(n.dot(ray.dir) < 0.0) {
+            return None; // the back of an emitter: it emits nothing this way
+        }
+        // Anything else in front of it? (Emitters were already compared above.)
+        let blocked = self.objects.iter().enumerate().any(|(i, o)| {
+            i != skip && i != object && o.light.is_none() && o.shape.intersect(ray, 0.0, t).is_some()
+        });
+        if blocked {
+            return None;
+        }
+        Some((Hit { t, object, point: SurfacePoint { p, n }, front: true }, light_index, radiance))
+    }
+
     /// True when nothing but objects `a` and `b` lies on the ray before `t_max`.
     #[inline]
     pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: usize, b: Option<usize>) -> bool {
