@@ -84,16 +84,16 @@ run_qemu() {
     -kernel "$name.elf") >"$WORK/$name.log" 2>&1
 }
 
-host_sim() {
+# The host renderer, built once (release) unless PICOMIS_SIM names one; sets SIM.
+SIM=
+prepare_host_sim() {
   if [ -n "${PICOMIS_SIM:-}" ]; then
-    echo "$PICOMIS_SIM"
-    return
+    SIM=$PICOMIS_SIM
+  elif (cd "$ROOT" && CARGO_TARGET_DIR="$TD" cargo build --release --quiet -p picomis-sim); then
+    SIM="$TD/release/picomis-sim"
+  else
+    say "could not build picomis-sim"
   fi
-  if [ -z "${HOST_SIM_BUILT:-}" ]; then
-    (cd "$ROOT" && CARGO_TARGET_DIR="$TD" cargo build --release --quiet -p picomis-sim) >&2 || return 1
-    HOST_SIM_BUILT=1
-  fi
-  echo "$TD/release/picomis-sim"
 }
 
 PASSED=0
@@ -104,7 +104,7 @@ fail() { FAILED=$((FAILED + 1)); say "FAIL $*"; }
 # check_render NAME TARGET FEATURES SCENE W H SPP SEED: build, run under QEMU, check the exit
 # status and the log, and compare the framebuffer with the host's render of the same scene.
 check_render() {
-  local name=$1 target=$2 feats=$3 scene=$4 w=$5 h=$6 spp=$7 seed=$8 rc sim
+  local name=$1 target=$2 feats=$3 scene=$4 w=$5 h=$6 spp=$7 seed=$8 rc
   if ! build "$@"; then
     fail "$name: build ($target $feats)"
     return
@@ -124,11 +124,11 @@ check_render() {
     fail "$name: framebuffer file missing or not $((w * h * 2)) bytes"
     return
   fi
-  if ! sim=$(host_sim); then
-    fail "$name: could not build picomis-sim"
+  if [ -z "$SIM" ]; then
+    fail "$name: no host renderer (picomis-sim)"
     return
   fi
-  if ! "$sim" render "$ROOT/$scene" --width "$w" --height "$h" --spp "$spp" --seed "$seed" \
+  if ! "$SIM" render "$ROOT/$scene" --width "$w" --height "$h" --spp "$spp" --seed "$seed" \
       --out "$WORK/$name.host.rgb565" >"$WORK/$name.host.log" 2>&1; then
     fail "$name: host render failed: $(tail -n 3 "$WORK/$name.host.log")"
     return
@@ -152,6 +152,8 @@ cmd_test() {
   local start=$SECONDS scenes=("$VEACH")
   setup
   [ -f "$ROOT/$LAMBERT" ] && scenes+=("$LAMBERT")
+  step "firmware: host renderer (picomis-sim, release)"
+  prepare_host_sim
   step "firmware: builds, QEMU runs and host comparison (work dir $WORK)"
   # Cortex-M4F, 160x120.
   check_render m4-veach $M4 "" "$VEACH" 160 120 1 0
