@@ -1,0 +1,595 @@
+//! Every sampling routine of the kernel against its pdf.
+//!
+//! 1. Chi-square tests (Mitsuba style): 10^6 samples histogrammed on a chart of the sample space
+//!    (a polar grid of directions, or the light's own surface), expected counts from integrating
+//!    the kernel's pdf numerically over each cell, cells with < 5 expected pooled, significance
+//!    0.01 Sidak-corrected over the [`CHI2_TESTS`] tests of this file. Samplers that may return
+//!    nothing get a "no sample" cell holding the pdf's missing mass.
+//! 2. E[1/p(X)] = measure of the support (z < 4 on the standard error): hemisphere 2 pi, sphere
+//!    4 pi, cone 2 pi (1 - cos theta_max) down to r/d = 1e-6, a sphere light's cone by area
+//!    sampling, a quad light's solid angle (Van Oosterom-Strackee).
+
+use picomis::sampling::{
+    cone_one_minus_cos, cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_uniform_cone,
+    sample_uniform_sphere, uniform_cone_pdf, uniform_sphere_pdf,
+};
+use picomis::{
+    Film, Light, LightSelection, Material, Rgb, Sampler, Scene, Shape, SphereSampling, SurfacePoint, Vec2,
+    Vec3,
+};
+use picomis_tests::{
+    Cap, DVec3, Histogram2d, Stats, assert_chi2, assert_unbiased, camera, cone_measure, d3, f3, frame,
+    histogram, luminance, polygon_solid_angle, quad_corners,
+};
+use std::f64::consts::PI;
+
+/// Number of chi-square tests in this file (for the Sidak correction).
+const CHI2_TESTS: usize = 39;
+/// Samples per chi-square test.
+const N_CHI2: usize = 1_000_000;
+/// Samples per E[1/p] test.
+const N_MEASURE: usize = 200_000;
+
+// ---------------------------------------------------------------------------------------------
+// Charts of light surfaces
+
+/// The part of a sphere (centre `c`, radius `r`) visible from `x`, charted by
+/// a = (1 - cos psi) / (1 - r/d) (area-uniform) and b = phi / 2 pi, psi measured at the centre
+/// from the axis towards `x`. The visible cap is exactly psi < acos(r/d).
+struct VisibleCap {
+    x: DVec3,
+    c: DVec3,
+    r: f64,
+    frame: [DVec3; 3],
+    omc_max: f64,
+}
+
+impl VisibleCap {
+    fn new(x: Vec3, c: Vec3, r: f32) -> Self {
+        let (x, c, r) = (d3(x), d3(c), f64::from(r));
+        let d = (x - c).length();
+        Self { x, c, r, frame: frame(x - c), omc_max: 1.0 - r / d }
+    }
+
+    fn coords(&self, y: DVec3) -> Option<(f64, f64)> {
+        let [t, b, axis] = self.frame;
+        let n = (y - self.c).normalize();
+        let a = 0.5 * (n - axis).length_squared() / self.omc_max;
+        let phi = n.dot(b).atan2(n.dot(t)).rem_euclid(2.0 * PI);
+        (a <= 1.0).then_some((a, phi / (2.0 * PI)))
+    }
+
+    /// Chart density of a solid-angle pdf given as a function of the point and its normal:
+    /// pdf * cos_y / |x - y|^2 * dA/d(a, b), dA/d(a, b) = r^2 (1 - r/d) 2 pi.
+    fn density<'a>(&'a self, pdf: impl Fn(Vec3, Vec3) -> f64 + 'a) -> impl Fn(f64, f64) -> f64 + 'a {
+        move |a, b| {
+            let [t, bt, axis] = self.frame;
+            let omc = a * self.omc_max;
+            let sin = (omc * (2.0 - omc)).sqrt();
+            let (sp, cp) = (b * 2.0 * PI).sin_cos();
+            let n = t * (sin * cp) + bt * (sin * sp) + axis * (1.0 - omc);
+            let y = self.c + n * self.r;
+            let v = self.x - y;
+            let d2 = v.length_squared();
+            let cos_y = n.dot(v) / d2.sqrt();
+            pdf(f3(y), f3(n)) * cos_y / d2 * self.r * self.r * self.omc_max * 2.0 * PI
+        }
+    }
+}
+
+/// A parallelogram light charted by its own (s, t) coordinates.
+struct QuadChart {
+    x: DVec3,
+    p0: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+    n: DVec3,
+    w: DVec3,
+    area: f64,
+}
+
+impl QuadChart {
+    fn new(x: Vec3, corners: [Vec3; 4]) -> Self {
+        let (p0, e1, e2) = (d3(corners[0]), d3(corners[1] - corners[0]), d3(corners[3] - corners[0]));
+        let c = e1.cross(e2);
+        Self { x: d3(x), p0, e1, e2, n: c.normalize(), w: c * (1.0 / c.length_squared()), area: c.length() }
+    }
+
+    fn coords(&self, y: DVec3) -> Option<(f64, f64)> {
+        let d = y - self.p0;
+        let (s, t) = (d.cross(self.e2).dot(self.w), self.e1.cross(d).dot(self.w));
+        ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t)).then_some((s, t))
+    }
+
+    /// Chart density of a solid-angle pdf: pdf * cos_y / |x - y|^2 * area.
+    fn density<'a>(&'a self, pdf: impl Fn(Vec3, Vec3) -> f64 + 'a) -> impl Fn(f64, f64) -> f64 + 'a {
+        move |s, t| {
+            let y = self.p0 + self.e1 * s + self.e2 * t;
+            let v = self.x - y;
+            let d2 = v.length_squared();
+            let cos_y = self.n.dot(v).abs() / d2.sqrt();
+            pdf(f3(y), f3(self.n)) * cos_y / d2 * self.area
+        }
+    }
+}
+
+/// An emitting sphere as a kernel light and its shape.
+fn sphere_light(c: Vec3, r: f32) -> (Light, Shape) {
+    (Light::Area { shape: 0, radiance: Rgb::ONE }, Shape::sphere(c, r).unwrap())
+}
+
+/// Solid-angle pdf of a light's sampling technique at a direction from `x`, found as the kernel's
+/// estimator finds it: trace the direction to the shape, then ask `pdf_li` (0 on a miss).
+fn pdf_towards(light: &Light, shape: &Shape, x: Vec3, dir: DVec3, spheres: SphereSampling) -> f64 {
+    let ray = picomis::Ray { origin: x, dir: f3(dir.normalize()) };
+    match shape.intersect(&ray, 0.0, f32::INFINITY) {
+        Some(t) => {
+            let p = ray.at(t);
+            let y = SurfacePoint { p, n: shape.normal_at(p) };
+            f64::from(light.pdf_li(Some(shape), x, &y, spheres))
+        }
+        None => 0.0,
+    }
+}
+
+/// Point reached by a light sample: x + wi * distance (f64).
+fn sample_point(x: Vec3, wi: Vec3, distance: f32) -> DVec3 {
+    d3(x) + d3(wi) * f64::from(distance)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Chi-square: sampling routines of picomis::sampling
+
+#[test]
+fn chi2_cosine_hemisphere() {
+    let cap = Cap::new(DVec3::Z, PI / 2.0);
+    let h = histogram(32, 64, N_CHI2, 1, |u| Some(sample_cosine_hemisphere(u)), |w| cap.coords(d3(*w)));
+    let pdf = |w: DVec3| f64::from(cosine_hemisphere_pdf(w.z as f32));
+    h.assert_matches("cosine hemisphere", cap.density(pdf), CHI2_TESTS);
+}
+
+#[test]
+fn chi2_uniform_sphere() {
+    let cap = Cap::new(DVec3::Z, PI);
+    let h = histogram(40, 80, N_CHI2, 2, |u| Some(sample_uniform_sphere(u)), |w| cap.coords(d3(*w)));
+    h.assert_matches("uniform sphere", cap.density(|_| f64::from(uniform_sphere_pdf())), CHI2_TESTS);
+}
+
+#[test]
+fn chi2_uniform_cone() {
+    // The cone a sphere of radius r subtends at distance d; the chart reaches 1.25 theta_max so
+    // that samples outside the cone are caught, and the cone's edge is a cell edge (a = 0.8).
+    for (k, r_over_d) in [0.999f64, 0.5, 0.1, 1e-2, 1e-3, 1e-6].into_iter().enumerate() {
+        let omc = cone_one_minus_cos((r_over_d * r_over_d) as f32);
+        let theta_c = r_over_d.asin();
+        let cap = Cap::new(DVec3::Z, 1.25 * theta_c);
+        let h = histogram(
+            40,
+            64,
+            N_CHI2,
+            10 + k as u32,
+            |u| Some(sample_uniform_cone(u, omc)),
+            |w| cap.coords(d3(*w)),
+        );
+        let pdf = f64::from(uniform_cone_pdf(omc));
+        let density =
+            |a: f64, _b: f64| if a * cap.theta_max <= theta_c { pdf * cap.jacobian(a) } else { 0.0 };
+        h.assert_matches(&format!("uniform cone r/d = {r_over_d:e}"), density, CHI2_TESTS);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Chi-square: BSDF sampling through Material::sample / Material::pdf
+
+/// Checks one material's `sample` against its `pdf` for one `wo`; also that every sample's pdf
+/// and weight agree with `pdf` and `eval`.
+fn check_material(label: &str, m: Material, wo: Vec3, seed: u32) {
+    let cap = Cap::new(DVec3::Z, PI / 2.0);
+    let mut worst_pdf: f64 = 0.0;
+    let mut worst_weight: f64 = 0.0;
+    let h = histogram(
+        48,
+        96,
+        N_CHI2,
+        seed,
+        |u| {
+            let s = m.sample(wo, u)?;
+            let pdf = f64::from(m.pdf(wo, s.wi));
+            worst_pdf = worst_pdf.max((pdf / f64::from(s.pdf) - 1.0).abs());
+            let expect = f64::from(m.eval(wo, s.wi).x) / f64::from(s.pdf);
+            worst_weight = worst_weight.max((f64::from(s.weight.x) - expect).abs() / expect.max(1e-3));
+            Some(s.wi)
+        },
+        |w| cap.coords(d3(*w)),
+    );
+    assert!(worst_pdf < 1e-3, "{label}: sample pdf and Material::pdf disagree by {worst_pdf:e}");
+    assert!(worst_weight < 1e-3, "{label}: sample weight and eval/pdf disagree by {worst_weight:e}");
+    let pdf = |w: DVec3| f64::from(m.pdf(wo, f3(w)));
+    h.assert_matches(label, cap.density(pdf), CHI2_TESTS);
+}
+
+fn direction(theta_deg: f32, phi_deg: f32) -> Vec3 {
+    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+    Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+}
+
+#[test]
+fn chi2_lambertian_material() {
+    let m = Material::lambertian(Rgb::new(0.9, 0.5, 0.1)).unwrap();
+    check_material("lambertian", m, direction(40.0, 30.0), 20);
+}
+
+#[test]
+fn chi2_ggx_smooth() {
+    for (k, theta_o) in [0.0, 45.0, 80.0, 88.0].into_iter().enumerate() {
+        for alpha in [0.05, 0.2] {
+            let m = Material::ggx_conductor(alpha, Rgb::ONE).unwrap();
+            let label = format!("GGX alpha {alpha}, theta_o {theta_o}");
+            check_material(&label, m, direction(theta_o, 30.0), 30 + k as u32 + (alpha * 100.0) as u32);
+        }
+    }
+}
+
+#[test]
+fn chi2_ggx_rough() {
+    for (k, theta_o) in [0.0, 45.0, 80.0, 88.0].into_iter().enumerate() {
+        for alpha in [0.5, 1.0] {
+            let m = Material::ggx_conductor(alpha, Rgb::ONE).unwrap();
+            let label = format!("GGX alpha {alpha}, theta_o {theta_o}");
+            check_material(&label, m, direction(theta_o, -70.0), 60 + k as u32 + (alpha * 10.0) as u32);
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Chi-square: light sampling through Light::sample_li / Light::pdf_li
+
+/// A shading point and a unit direction off every axis.
+fn setup() -> (Vec3, Vec3) {
+    (Vec3::new(0.3, -0.2, 0.1), Vec3::new(0.48, 0.8, -0.36).normalize())
+}
+
+#[test]
+fn chi2_sphere_light_by_cone() {
+    let (x, dir) = setup();
+    for (k, r_over_d) in [0.5f32, 0.1, 1e-2].into_iter().enumerate() {
+        let d = 3.0;
+        let (light, shape) = sphere_light(x + dir * d, r_over_d * d);
+        let (c, r) = shape.as_sphere().unwrap();
+        let theta_s = (f64::from(r) / (d3(c) - d3(x)).length()).asin();
+        let cap = Cap::new(d3(c) - d3(x), 1.25 * theta_s);
+        let h = histogram(
+            40,
+            64,
+            N_CHI2,
+            100 + k as u32,
+            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Cone),
+            |s| cap.coords(d3(s.wi)),
+        );
+        let pdf = |w: DVec3| pdf_towards(&light, &shape, x, w, SphereSampling::Cone);
+        h.assert_matches(&format!("sphere light by cone, r/d = {r_over_d}"), cap.density(pdf), CHI2_TESTS);
+    }
+}
+
+#[test]
+fn chi2_sphere_light_by_area() {
+    let (x, dir) = setup();
+    for (k, r_over_d) in [0.8f32, 0.3, 0.05].into_iter().enumerate() {
+        let d = 2.0;
+        let (light, shape) = sphere_light(x + dir * d, r_over_d * d);
+        let (c, r) = shape.as_sphere().unwrap();
+        let chart = VisibleCap::new(x, c, r);
+        let h = histogram(
+            32,
+            64,
+            N_CHI2,
+            110 + k as u32,
+            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Area),
+            |s| chart.coords(sample_point(x, s.wi, s.distance)),
+        );
+        let pdf = |p: Vec3, n: Vec3| {
+            f64::from(light.pdf_li(Some(&shape), x, &SurfacePoint { p, n }, SphereSampling::Area))
+        };
+        let label = format!("sphere light by area, r/d = {r_over_d}");
+        let c2 = h.assert_matches(&label, chart.density(pdf), CHI2_TESTS);
+        // About half of the points lie on the far side: P(no sample) = (1 + r/d) / 2.
+        let none = h.observed[h.cells() + 1] / N_CHI2 as f64;
+        let p_none = 0.5 * (1.0 + f64::from(r) / (d3(c) - d3(x)).length());
+        let se = (p_none * (1.0 - p_none) / N_CHI2 as f64).sqrt();
+        assert!(
+            (none - p_none).abs() < 4.0 * se,
+            "{label}: {none} far-side samples, expected {p_none} ({c2:?})"
+        );
+    }
+}
+
+/// A tilted parallelogram light facing the shading points of [`quad_points`].
+fn quad_light() -> (Light, Shape, [Vec3; 4]) {
+    let corners =
+        quad_corners(Vec3::new(-0.6, 1.5, 0.8), Vec3::new(0.0, 0.3, -1.4), Vec3::new(1.1, 0.2, 0.1));
+    let shape = Shape::quad(corners).unwrap();
+    (Light::Area { shape: 0, radiance: Rgb::ONE }, shape, corners)
+}
+
+fn quad_points() -> [Vec3; 2] {
+    [Vec3::new(0.1, 0.0, -0.2), Vec3::new(1.5, 0.5, 2.0)]
+}
+
+#[test]
+fn chi2_quad_light_by_area() {
+    let (light, shape, corners) = quad_light();
+    for (k, x) in quad_points().into_iter().enumerate() {
+        // The light faces x.
+        assert!(shape.normal_at(corners[0]).dot(x - corners[0]) > 0.0);
+        let chart = QuadChart::new(x, corners);
+        let h = histogram(
+            32,
+            32,
+            N_CHI2,
+            120 + k as u32,
+            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Cone),
+            |s| chart.coords(sample_point(x, s.wi, s.distance)),
+        );
+        let pdf = |p: Vec3, n: Vec3| {
+            f64::from(light.pdf_li(Some(&shape), x, &SurfacePoint { p, n }, SphereSampling::Cone))
+        };
+        h.assert_matches(&format!("quad light by area from {x}"), chart.density(pdf), CHI2_TESTS);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Chi-square: light selection and Scene::sample_light / Scene::light_pdf
+
+type LightScene = Scene<4, 5, 1>;
+
+/// A sphere light, a quad light, a point light and a dark point light, of different powers.
+fn light_scene() -> LightScene {
+    let mut s: LightScene = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
+    let black = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
+    let sphere = s.add_shape(Shape::sphere(Vec3::new(-1.0, 2.0, 0.5), 0.4).unwrap(), black).unwrap();
+    s.add_area_light(sphere, Rgb::new(3.0, 2.0, 1.0)).unwrap();
+    let (_, quad, _) = quad_light();
+    let q = s.add_shape(quad, black).unwrap();
+    s.add_area_light(q, Rgb::new(0.5, 1.0, 2.0)).unwrap();
+    s.add_point_light(Vec3::new(1.0, 3.0, -1.0), Rgb::new(2.0, 2.0, 0.5)).unwrap();
+    s.add_point_light(Vec3::new(0.0, 3.0, 0.0), Rgb::ZERO).unwrap();
+    s
+}
+
+/// Power of each light of [`light_scene`], computed independently: pi L A (area lights),
+/// 4 pi I (point lights), luminance of each.
+fn light_powers(s: &LightScene) -> Vec<f64> {
+    s.lights()
+        .iter()
+        .map(|l| match l {
+            Light::Area { radiance, .. } => {
+                PI * luminance(*radiance) * f64::from(s.light_shape(l).unwrap().area())
+            }
+            Light::Point { intensity, .. } => 4.0 * PI * luminance(*intensity),
+        })
+        .collect()
+}
+
+#[test]
+fn chi2_light_selection() {
+    let s = light_scene();
+    let powers = light_powers(&s);
+    let total: f64 = powers.iter().sum();
+    for (k, selection) in [LightSelection::Uniform, LightSelection::Power].into_iter().enumerate() {
+        let exact: Vec<f64> = match selection {
+            LightSelection::Uniform => vec![0.25; 4],
+            LightSelection::Power => powers.iter().map(|p| p / total).collect(),
+        };
+        for (i, e) in exact.iter().enumerate() {
+            let p = f64::from(s.light_selection_pdf(i, selection));
+            assert!((p - e).abs() < 1e-6, "{selection:?}: P(light {i}) = {p}, expected {e}");
+        }
+        let mut rng = Sampler::new(200 + k as u32, 0, 0);
+        let mut observed = vec![0.0; 4];
+        for _ in 0..N_CHI2 {
+            let (i, p) = s.select_light(rng.next_f32(), selection).unwrap();
+            assert_eq!(p, s.light_selection_pdf(i, selection));
+            observed[i] += 1.0;
+        }
+        let expected: Vec<f64> = exact.iter().map(|p| p * N_CHI2 as f64).collect();
+        assert_chi2(&format!("light selection {selection:?}"), &observed, &expected, CHI2_TESTS);
+    }
+}
+
+#[test]
+fn chi2_scene_light_sampling() {
+    // Scene::sample_light (selection, then a point) against Scene::light_pdf (selection included):
+    // one chart per area light, one cell for the point light, one for "no sample".
+    let s = light_scene();
+    let x = Vec3::new(0.2, 0.0, 0.3);
+    let sphere = s.objects()[0].shape;
+    let (c, r) = sphere.as_sphere().unwrap();
+    let cone = Cap::new(d3(c) - d3(x), 1.25 * (f64::from(r) / (d3(c) - d3(x)).length()).asin());
+    let cap = VisibleCap::new(x, c, r);
+    let quad_chart = QuadChart::new(x, quad_light().2);
+    let mut k = 0;
+    for spheres in [SphereSampling::Cone, SphereSampling::Area] {
+        for selection in [LightSelection::Uniform, LightSelection::Power] {
+            k += 1;
+            let label = format!("scene light sampling {spheres:?} {selection:?}");
+            let mut hs = Histogram2d::new(40, 64);
+            let mut hq = Histogram2d::new(24, 24);
+            let (mut point, mut none) = ([0.0; 2], 0.0);
+            let mut rng = Sampler::new(300 + k, 0, 0);
+            for _ in 0..N_CHI2 {
+                let u_select = rng.next_f32();
+                match s.sample_light(x, u_select, rng.next_2d(), spheres, selection) {
+                    Some((ls, Some(0))) => match spheres {
+                        SphereSampling::Cone => hs.add(cone.coords(d3(ls.wi))),
+                        SphereSampling::Area => hs.add(cap.coords(sample_point(x, ls.wi, ls.distance))),
+                    },
+                    Some((ls, Some(_))) => hq.add(quad_chart.coords(sample_point(x, ls.wi, ls.distance))),
+                    Some((ls, None)) => {
+                        // A point light (the bright one, or the dark one under uniform
+                        // selection): a delta light whose pdf is its selection probability.
+                        assert!(ls.delta);
+                        let i = if ls.radiance == Rgb::ZERO { 3 } else { 2 };
+                        assert_eq!(ls.pdf, s.light_selection_pdf(i, selection), "{label}");
+                        point[i - 2] += 1.0;
+                    }
+                    None => none += 1.0,
+                }
+            }
+            let n = N_CHI2 as f64;
+            let pdf_at = |light: usize, p: Vec3, nrm: Vec3| {
+                f64::from(s.light_pdf(light, x, &SurfacePoint { p, n: nrm }, spheres, selection))
+            };
+            let (es, ts) = match spheres {
+                SphereSampling::Cone => {
+                    let ray_pdf = |w: DVec3| {
+                        let ray = picomis::Ray { origin: x, dir: f3(w) };
+                        sphere.intersect(&ray, 0.0, f32::INFINITY).map_or(0.0, |t| {
+                            let p = ray.at(t);
+                            pdf_at(0, p, sphere.normal_at(p))
+                        })
+                    };
+                    hs.cell_expectations(n, cone.density(ray_pdf))
+                }
+                SphereSampling::Area => hs.cell_expectations(n, cap.density(|p, nrm| pdf_at(0, p, nrm))),
+            };
+            let (eq, tq) = hq.cell_expectations(n, quad_chart.density(|p, nrm| pdf_at(1, p, nrm)));
+            let p_point = [2, 3].map(|i| n * f64::from(s.light_selection_pdf(i, selection)));
+            let mut observed = hs.observed[..=hs.cells()].to_vec();
+            observed.extend_from_slice(&hq.observed[..=hq.cells()]);
+            observed.extend_from_slice(&[point[0], point[1], none]);
+            let mut expected = es[..=hs.cells()].to_vec();
+            expected.extend_from_slice(&eq[..=hq.cells()]);
+            expected.extend_from_slice(&[
+                p_point[0],
+                p_point[1],
+                (n * (1.0 - ts - tq) - p_point[0] - p_point[1]).max(0.0),
+            ]);
+            assert_chi2(&label, &observed, &expected, CHI2_TESTS);
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// E[1/p(X)] = measure of the support
+
+/// Mean of 1/pdf over `n` draws (0 for a draw that returns nothing).
+fn inverse_pdf_stats(seed: u32, n: usize, mut draw: impl FnMut(Vec2) -> Option<f32>) -> Stats {
+    let mut st = Stats::new();
+    let mut rng = Sampler::new(seed, 0x1D, 0);
+    for _ in 0..n {
+        st.push(draw(rng.next_2d()).map_or(0.0, |pdf| 1.0 / f64::from(pdf)));
+    }
+    st
+}
+
+#[test]
+fn measure_hemisphere_and_sphere() {
+    let st = inverse_pdf_stats(1, N_MEASURE, |u| Some(cosine_hemisphere_pdf(sample_cosine_hemisphere(u).z)));
+    assert_unbiased("E[1/p] cosine hemisphere", &st, 2.0 * PI, 0.01);
+    let m = Material::lambertian(Rgb::splat(0.5)).unwrap();
+    let wo = direction(60.0, 10.0);
+    let st = inverse_pdf_stats(2, N_MEASURE, |u| m.sample(wo, u).map(|s| s.pdf));
+    assert_unbiased("E[1/p] Lambertian Material::sample", &st, 2.0 * PI, 0.01);
+    let st = inverse_pdf_stats(3, N_MEASURE, |u| {
+        let w = sample_uniform_sphere(u);
+        assert!((w.length() - 1.0).abs() < 1e-5);
+        Some(uniform_sphere_pdf())
+    });
+    assert_unbiased("E[1/p] uniform sphere", &st, 4.0 * PI, 0.01);
+}
+
+#[test]
+fn measure_cone_down_to_tiny_spheres() {
+    for r_over_d in [0.5f64, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6] {
+        let r32 = r_over_d as f32;
+        let omc = cone_one_minus_cos(r32 * r32);
+        // Exact for the f32 ratio the kernel was given.
+        let exact = cone_measure(f64::from(r32));
+        let st = inverse_pdf_stats(4, 10_000, |u| {
+            let w = sample_uniform_cone(u, omc);
+            assert!(w.is_finite());
+            Some(uniform_cone_pdf(omc))
+        });
+        assert_unbiased(&format!("E[1/p] uniform cone r/d = {r_over_d:e}"), &st, exact, 0.01);
+    }
+}
+
+#[test]
+fn measure_sphere_light_by_cone_down_to_tiny_spheres() {
+    let (x, dir) = setup();
+    for r_over_d in [1e-2f32, 1e-3, 1e-4, 1e-5, 1e-6] {
+        let d = 2.0f32;
+        let (light, shape) = sphere_light(x + dir * d, r_over_d * d);
+        let (c, r) = shape.as_sphere().unwrap();
+        let exact = cone_measure(f64::from(r) / (d3(c) - d3(x)).length());
+        let mut min_cos: f64 = 1.0;
+        let axis = (d3(c) - d3(x)).normalize();
+        let st = inverse_pdf_stats(5, 10_000, |u| {
+            let s = light.sample_li(Some(&shape), x, u, SphereSampling::Cone)?;
+            min_cos = min_cos.min(d3(s.wi).normalize().dot(axis));
+            Some(s.pdf)
+        });
+        assert_unbiased(&format!("E[1/p] sphere light by cone, r/d = {r_over_d:e}"), &st, exact, 0.01);
+        // Every direction stays in the cone (to f32 precision of a world direction).
+        let theta = min_cos.clamp(-1.0, 1.0).acos();
+        assert!(
+            theta <= f64::from(r_over_d).asin() + 2e-7,
+            "r/d = {r_over_d:e}: a direction {theta:e} rad off the axis"
+        );
+    }
+}
+
+#[test]
+fn measure_sphere_light_by_area() {
+    let (x, dir) = setup();
+    for r_over_d in [0.5f32, 0.1, 1e-2, 1e-3] {
+        let d = 2.0f32;
+        let (light, shape) = sphere_light(x + dir * d, r_over_d * d);
+        let (c, r) = shape.as_sphere().unwrap();
+        let exact = cone_measure(f64::from(r) / (d3(c) - d3(x)).length());
+        let st = inverse_pdf_stats(6, N_MEASURE, |u| {
+            light.sample_li(Some(&shape), x, u, SphereSampling::Area).map(|s| s.pdf)
+        });
+        assert_unbiased(&format!("E[1/p] sphere light by area, r/d = {r_over_d:e}"), &st, exact, 0.01);
+    }
+}
+
+#[test]
+fn measure_quad_light() {
+    let (light, shape, corners) = quad_light();
+    let verts = corners.map(d3);
+    for x in quad_points() {
+        let exact = polygon_solid_angle(d3(x), &verts);
+        let st = inverse_pdf_stats(7, N_MEASURE, |u| {
+            light.sample_li(Some(&shape), x, u, SphereSampling::Area).map(|s| s.pdf)
+        });
+        assert_unbiased(&format!("E[1/p] quad light from {x}"), &st, exact, 0.01);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The chi-square tests above can fail
+
+#[test]
+fn chi2_detects_small_errors() {
+    let level = picomis_tests::sidak(0.01, CHI2_TESTS);
+    let cap = Cap::new(DVec3::Z, PI / 2.0);
+    // GGX samples of alpha 0.2 against the pdf of alpha 0.21.
+    let wo = direction(45.0, 30.0);
+    let m = Material::ggx_conductor(0.2, Rgb::ONE).unwrap();
+    let wrong = Material::ggx_conductor(0.21, Rgb::ONE).unwrap();
+    let h = histogram(48, 96, N_CHI2, 30, |u| m.sample(wo, u).map(|s| s.wi), |w| cap.coords(d3(*w)));
+    let (e, _) = h.expected(cap.density(|w: DVec3| f64::from(wrong.pdf(wo, f3(w)))));
+    let c = picomis_tests::chi2_pooled(&h.observed, &e).unwrap();
+    assert!(c.p_value < level, "GGX alpha off by 5% not detected: {c:?}");
+    // Cone samples against a cone 1% wider: samples are missing near its edge.
+    let r_over_d = 0.1f64;
+    let omc = cone_one_minus_cos((r_over_d * r_over_d) as f32);
+    let theta_c = 1.01 * r_over_d.asin();
+    let wide = cone_measure(theta_c.sin());
+    let cone = Cap::new(DVec3::Z, 1.25 * theta_c);
+    let h = histogram(40, 64, N_CHI2, 12, |u| Some(sample_uniform_cone(u, omc)), |w| cone.coords(d3(*w)));
+    let (e, _) = h.expected(|a, _| if a * cone.theta_max <= theta_c { cone.jacobian(a) / wide } else { 0.0 });
+    let c = picomis_tests::chi2_pooled(&h.observed, &e).unwrap();
+    assert!(c.p_value < level, "cone 1% too wide not detected: {c:?}");
+}
