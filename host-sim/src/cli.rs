@@ -101,7 +101,7 @@ pub struct FigureArgs {
     /// A picomis-scene/1 JSON file or the name of a built-in scene (default: veach_mis).
     pub scene: Option<String>,
     /// Camera samples per pixel of each render.
-    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..))]
     pub spp: u32,
     /// Seed.
     #[arg(long, default_value_t = 0)]

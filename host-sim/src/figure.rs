@@ -98,30 +98,42 @@ pub fn render_figure(loaded: &Loaded, spp: u32, seed: u32) -> Result<(Canvas, Ba
     let film = loaded.file.film();
     let batch = loaded.visit(film, RenderBatch { settings: &settings, message: "figure" })?;
     let (n_light, n_bsdf) = settings[BALANCE].technique_samples();
-    let caption = format!(
-        "{}: {}x{}, {spp} camera samples per pixel, each with {n_light} light + {n_bsdf} BSDF sample{}, seed {seed}",
-        loaded.file.name(),
-        film.width(),
-        film.height(),
-        if n_bsdf == 1 { "" } else { "s" },
-    );
+    let lights = loaded.file.counts().lights;
+    let caption = [
+        format!(
+            "{}: {}x{}, {spp} camera samples per pixel, each with {n_light} light + {n_bsdf} BSDF sample{}, seed {seed}",
+            loaded.file.name(),
+            film.width(),
+            film.height(),
+            if n_bsdf == 1 { "" } else { "s" },
+        ),
+        if lights == 1 {
+            "Light sampling samples the scene's one light; sphere lights are sampled in the cone they subtend.".to_string()
+        } else {
+            format!(
+                "A light sample picks one of the {lights} lights uniformly; sphere lights are sampled in the cone they subtend."
+            )
+        },
+    ];
     Ok((compose(&batch.images, &caption), batch))
 }
 
 /// Lays out the figure from the six renders of [`METHODS`] (same film).
-pub fn compose(images: &[Estimates], caption: &str) -> Canvas {
+pub fn compose(images: &[Estimates], caption: &[String]) -> Canvas {
     let (w, h) = (images[0].width, images[0].height);
     let k = MIN_PANEL_WIDTH.div_ceil(w).max(1);
     let (pw, ph) = (w * k, h * k);
     let columns = 4;
-    let title_h = 74;
+    let title_h = 96;
     let row_h = LABEL + ph + MARGIN;
     let width = columns * pw + (columns + 1) * MARGIN;
     let height = title_h + 3 * row_h + 10;
     let mut canvas = Canvas::new(width, height, BACKGROUND);
 
     draw_text(&mut canvas, MARGIN as f32, 10.0, 26.0, "Multiple importance sampling: direct lighting", INK);
-    draw_text(&mut canvas, MARGIN as f32, 44.0, 17.0, caption, MUTED);
+    for (i, line) in caption.iter().enumerate() {
+        draw_text(&mut canvas, MARGIN as f32, 44.0 + 22.0 * i as f32, 17.0, line, MUTED);
+    }
 
     let put_panel = |canvas: &mut Canvas, row: u32, col: u32, label: &str, pixels: Vec<[u8; 3]>| {
         let x = MARGIN + col * (pw + MARGIN);

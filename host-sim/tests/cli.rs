@@ -352,5 +352,5 @@ fn figure_is_a_labelled_png() {
     let reader = decoder.read_info().unwrap();
     let info = reader.info();
     // Four columns of panels (64x48 scaled by 5 to 320x240) and three rows.
-    assert_eq!((info.width, info.height), (4 * 320 + 5 * 14, 74 + 3 * (28 + 240 + 14) + 10));
+    assert_eq!((info.width, info.height), (4 * 320 + 5 * 14, 96 + 3 * (28 + 240 + 14) + 10));
 }
