@@ -31,6 +31,9 @@ pub enum Command {
     Figure(FigureArgs),
     /// List the built-in scenes.
     Scenes,
+    /// Speed against accuracy: error against time and spp per method, equal-time grids,
+    /// efficiency tables (see `study` module docs).
+    Study(crate::study::StudyArgs),
 }
 
 /// How sphere lights are sampled.
@@ -116,6 +119,7 @@ pub fn run(cli: Cli) -> Result<(), SimError> {
     match cli.command {
         Command::Render(args) => render(&args),
         Command::Figure(args) => figure(&args),
+        Command::Study(args) => crate::study::run(&args),
         Command::Scenes => {
             for b in BUILTINS {
                 let film = picomis_format::SceneFile::parse(b.json, b.name)?.film();

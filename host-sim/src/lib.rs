@@ -13,6 +13,7 @@ pub mod figure;
 pub mod output;
 pub mod render;
 pub mod scenes;
+pub mod study;
 pub mod text;
 
 use std::fmt;

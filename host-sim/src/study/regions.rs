@@ -1,0 +1,212 @@
+//! Plate x light regions of the Veach scene, derived from the scene geometry: every glossy quad
+//! ("plate") and every sphere light whose mirror image in the plate's plane is seen inside the
+//! plate from the camera gives a glint point on the plate. The pixels whose camera ray (through
+//! the pixel centre) first hits a plate belong to the region of that plate's nearest glint, so
+//! each plate is cut into one region per light. Error per region tells which technique fails
+//! where: BSDF sampling on small lights over rough plates, light sampling on big lights over
+//! smooth plates.
+
+use picomis::{Light, Material, Ray, Rgb, Scene, Vec2, Vec3};
+
+use super::metrics::channel_errors;
+
+/// One plate x light region.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Region {
+    /// Index into [`RegionMap::plates`].
+    pub plate: usize,
+    /// Index into [`RegionMap::lights`].
+    pub light: usize,
+    /// The glint: where the light's centre is mirrored in the plate, seen from the camera.
+    pub glint: Vec3,
+    /// Pixels in the region.
+    pub pixels: usize,
+}
+
+/// The regions of a scene at the study film.
+#[derive(Clone, Debug)]
+pub struct RegionMap {
+    /// Film width.
+    pub width: u32,
+    /// Film height.
+    pub height: u32,
+    /// GGX alpha of each plate, smoothest first.
+    pub plates: Vec<f32>,
+    /// Radius of each light, smallest first.
+    pub lights: Vec<f32>,
+    /// The regions, by plate then light.
+    pub regions: Vec<Region>,
+    /// The region of each pixel, if any.
+    pub pixel: Vec<Option<u16>>,
+}
+
+impl RegionMap {
+    /// The regions of `scene`, or `None` when it has fewer than two glossy quads or two sphere
+    /// lights with glints.
+    pub fn find<const S: usize, const L: usize, const M: usize>(scene: &Scene<S, L, M>) -> Option<Self> {
+        let camera = scene.camera().desc().origin;
+        let objects = scene.objects();
+        // (object, alpha) of the plates; (object, centre, radius) of the sphere lights.
+        let mut plates: Vec<(usize, f32)> = (0..objects.len())
+            .filter_map(|i| match scene.material(i) {
+                Some(Material::GgxConductor { alpha, .. })
+                    if objects[i].shape.as_sphere().is_none() && scene.emitter(i).is_none() =>
+                {
+                    Some((i, *alpha))
+                }
+                _ => None,
+            })
+            .collect();
+        let mut lights: Vec<(usize, Vec3, f32)> = scene
+            .lights()
+            .iter()
+            .filter_map(|l| match l {
+                Light::Area { shape, .. } => {
+                    let i = usize::from(*shape);
+                    objects.get(i)?.shape.as_sphere().map(|(c, r)| (i, c, r))
+                }
+                Light::Point { .. } => None,
+            })
+            .collect();
+        plates.sort_by(|a, b| a.1.total_cmp(&b.1));
+        lights.sort_by(|a, b| a.2.total_cmp(&b.2));
+
+        let mut glints: Vec<(usize, usize, Vec3)> = Vec::new(); // (plate index, light index, point)
+        for (pi, &(object, _)) in plates.iter().enumerate() {
+            let shape = &objects[object].shape;
+            let p0 = shape.centroid();
+            let n = shape.normal_at(p0);
+            if (camera - p0).dot(n) <= 0.0 {
+                continue;
+            }
+            for (li, &(_, centre, _)) in lights.iter().enumerate() {
+                let h = (centre - p0).dot(n);
+                if h <= 0.0 {
+                    continue;
+                }
+                let mirrored = centre - n * (2.0 * h);
+                let d = mirrored - camera;
+                let ray = Ray { origin: camera, dir: d.normalize() };
+                if let Some(t) = shape.intersect(&ray, 0.0, d.length()) {
+                    glints.push((pi, li, ray.at(t)));
+                }
+            }
+        }
+        // Keep the plates and lights that have glints, renumbered.
+        let used_plates: Vec<usize> =
+            (0..plates.len()).filter(|p| glints.iter().any(|g| g.0 == *p)).collect();
+        let used_lights: Vec<usize> =
+            (0..lights.len()).filter(|l| glints.iter().any(|g| g.1 == *l)).collect();
+        if used_plates.len() < 2 || used_lights.len() < 2 {
+            return None;
+        }
+        let mut regions: Vec<Region> = glints
+            .iter()
+            .map(|&(p, l, glint)| Region {
+                plate: used_plates.iter().position(|&q| q == p).unwrap_or(0),
+                light: used_lights.iter().position(|&q| q == l).unwrap_or(0),
+                glint,
+                pixels: 0,
+            })
+            .collect();
+        regions.sort_by_key(|r| (r.plate, r.light));
+        let plate_objects: Vec<usize> = used_plates.iter().map(|&p| plates[p].0).collect();
+
+        let film = scene.film();
+        let (w, h) = (film.width(), film.height());
+        let mut pixel = vec![None; film.pixels() as usize];
+        for y in 0..h {
+            for x in 0..w {
+                let uv = Vec2::new((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
+                let (ray, t_near) = scene.camera().ray(uv);
+                let Some(hit) = scene.intersect(&ray, t_near, f32::INFINITY, None) else { continue };
+                let Some(plate) = plate_objects.iter().position(|&o| o == hit.object) else { continue };
+                let nearest = regions
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, r)| r.plate == plate)
+                    .min_by(|a, b| {
+                        (a.1.glint - hit.point.p).length().total_cmp(&(b.1.glint - hit.point.p).length())
+                    })
+                    .map(|(i, _)| i);
+                if let Some(i) = nearest {
+                    regions[i].pixels += 1;
+                    pixel[(y * w + x) as usize] = u16::try_from(i).ok();
+                }
+            }
+        }
+        Some(Self {
+            width: w,
+            height: h,
+            plates: used_plates.iter().map(|&p| plates[p].1).collect(),
+            lights: used_lights.iter().map(|&l| lights[l].2).collect(),
+            regions,
+            pixel,
+        })
+    }
+
+    /// Relative MSE of `image` against `reference` in each region (NaN for an empty region).
+    pub fn rel_mse(&self, image: &[Rgb], reference: &[Rgb]) -> Vec<f64> {
+        let mut sums = vec![0.0; self.regions.len()];
+        for ((region, i), r) in self.pixel.iter().zip(image).zip(reference) {
+            if let Some(k) = region {
+                for (v, rv) in [(i.x, r.x), (i.y, r.y), (i.z, r.z)] {
+                    sums[usize::from(*k)] += channel_errors(v, rv).1;
+                }
+            }
+        }
+        sums.iter().zip(&self.regions).map(|(s, r)| s / (3 * r.pixels) as f64).collect()
+    }
+
+    /// The region of plate `p` and light `l`, if it has a glint.
+    pub fn index(&self, p: usize, l: usize) -> Option<usize> {
+        self.regions.iter().position(|r| r.plate == p && r.light == l)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenes::{SceneVisitor, load};
+
+    struct Find;
+    impl SceneVisitor for Find {
+        type Output = Option<RegionMap>;
+        fn visit<const S: usize, const L: usize, const M: usize>(
+            self,
+            scene: Scene<S, L, M>,
+        ) -> Self::Output {
+            RegionMap::find(&scene)
+        }
+    }
+
+    #[test]
+    fn the_veach_scene_has_four_plates_times_four_lights() {
+        let loaded = load(Some("veach_mis")).unwrap();
+        let film = picomis::Film::new(96, 64).unwrap();
+        let map = loaded.visit(film, Find).unwrap().expect("regions");
+        assert_eq!(map.plates, vec![0.005, 0.02, 0.05, 0.1]);
+        assert_eq!(map.lights, vec![0.03333, 0.1, 0.3, 0.9]);
+        assert_eq!(map.regions.len(), 16);
+        assert!(map.regions.iter().all(|r| r.pixels > 20), "{:?}", map.regions);
+        // Along each plate, the glints go left to right from the small light to the big one.
+        for p in 0..4 {
+            let xs: Vec<f32> = (0..4).map(|l| map.regions[map.index(p, l).unwrap()].glint.x).collect();
+            assert!(xs.windows(2).all(|w| w[0] < w[1]), "{xs:?}");
+        }
+        // Error per region: zero against itself, and only where the image differs.
+        let reference = vec![Rgb::splat(0.5); 96 * 64];
+        assert!(map.rel_mse(&reference, &reference).iter().all(|&e| e == 0.0));
+        let mut image = reference.clone();
+        let first = map.pixel.iter().position(|p| *p == Some(0)).unwrap();
+        image[first] = Rgb::splat(1.5);
+        let e = map.rel_mse(&image, &reference);
+        assert!(e[0] > 0.0 && e[1..].iter().all(|&v| v == 0.0));
+    }
+
+    #[test]
+    fn scenes_without_plates_have_no_regions() {
+        let loaded = load(Some("lambert_sphere")).unwrap();
+        assert!(loaded.visit(loaded.file.film(), Find).unwrap().is_none());
+    }
+}
