@@ -185,12 +185,15 @@ pub const SYNTH_LIGHTS: usize = 16;
 /// A synthetic scaling scene.
 pub type SynthScene = Scene<SYNTH_SHAPES, SYNTH_LIGHTS, 4>;
 
-/// A synthetic scene with `shapes` shapes, of which the first `lights` spheres emit: a diffuse
-/// floor quad, then spheres on a grid above it (alternately diffuse and glossy), seen from above
-/// at an angle. The total emitted power is the same for every `lights`. Needs
-/// `1 <= lights < shapes <= 64` and `lights <= 16`.
-pub fn synthetic_scene(shapes: usize, lights: usize) -> SynthScene {
-    assert!(lights >= 1 && lights < shapes && shapes <= SYNTH_SHAPES && lights <= SYNTH_LIGHTS);
+/// A synthetic scene: a diffuse floor quad; `visible` spheres on a 9 x 7 grid on the floor
+/// (alternately diffuse and glossy); and `slots` small spheres on a 4 x 4 grid high above, out of
+/// the camera's view, of which the first `lights` emit (the others are black). The emitted power
+/// in total is the same for every `lights`, and the visible image does not depend on `slots` or
+/// `lights` beyond its lighting. Needs `1 <= lights <= slots <= 16`, `visible <= 63` and
+/// `1 + visible + slots <= 64`.
+pub fn synthetic_scene(visible: usize, slots: usize, lights: usize) -> SynthScene {
+    assert!(lights >= 1 && lights <= slots && slots <= SYNTH_LIGHTS && visible <= 63);
+    assert!(1 + visible + slots <= SYNTH_SHAPES);
     let camera = CameraDesc {
         origin: Vec3::new(0.0, 6.0, 9.0),
         target: Vec3::new(0.0, 0.0, 0.0),
@@ -212,22 +215,17 @@ pub fn synthetic_scene(shapes: usize, lights: usize) -> SynthScene {
         Vec3::new(-6.0, 0.0, -6.0),
     ];
     scene.add_shape(Shape::quad(floor).expect("quad"), diffuse).expect("room");
-    // 63 spheres on a 9 x 7 grid; lights sit one unit higher than the others.
-    for i in 0..shapes - 1 {
+    for i in 0..visible {
         let (gx, gz) = ((i % 9) as f32 - 4.0, (i / 9) as f32 - 3.0);
-        let emits = i < lights;
-        let (y, r) = if emits { (1.8, 0.2) } else { (0.35, 0.3) };
-        let shape = Shape::sphere(Vec3::new(gx * 1.2, y, gz * 1.2), r).expect("sphere");
-        let material = if emits {
-            black
-        } else if i % 2 == 0 {
-            diffuse
-        } else {
-            glossy
-        };
-        let id = scene.add_shape(shape, material).expect("room");
-        if emits {
-            scene.add_area_light(id, Rgb::splat(40.0 / lights as f32)).expect("room");
+        let shape = Shape::sphere(Vec3::new(gx * 1.2, 0.35, gz * 1.2), 0.3).expect("sphere");
+        scene.add_shape(shape, if i % 2 == 0 { diffuse } else { glossy }).expect("room");
+    }
+    for i in 0..slots {
+        let (gx, gz) = ((i % 4) as f32 - 1.5, (i / 4) as f32 - 1.5);
+        let shape = Shape::sphere(Vec3::new(gx * 1.5, 5.0, gz * 1.5 - 1.0), 0.2).expect("sphere");
+        let id = scene.add_shape(shape, black).expect("room");
+        if i < lights {
+            scene.add_area_light(id, Rgb::splat(400.0 / lights as f32)).expect("room");
         }
     }
     scene
@@ -267,10 +265,16 @@ mod tests {
             let (s, l) = for_scene!(f, counts);
             assert_eq!((s, l), (f.counts().shapes, f.counts().lights), "{}", f.name());
         }
-        let s = synthetic_scene(64, 16);
+        let s = synthetic_scene(47, 16, 16);
         assert_eq!((s.objects().len(), s.lights().len()), (64, 16));
-        let s = synthetic_scene(2, 1);
+        let s = synthetic_scene(0, 1, 1);
         assert_eq!((s.objects().len(), s.lights().len()), (2, 1));
+        // The high spheres are out of view: no camera ray through the film hits them.
+        let s = synthetic_scene(0, 16, 16);
+        for (i, j) in [(0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (0.0, 0.5), (1.0, 0.5)] {
+            let (ray, _) = s.camera().ray(picomis::Vec2::new(i, j));
+            assert!(s.intersect(&ray, 0.0, f32::INFINITY, None).is_none_or(|h| h.object == 0));
+        }
         assert_eq!(methods().len(), 8);
     }
 }
