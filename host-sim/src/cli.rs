@@ -57,7 +57,8 @@ pub enum LightSelectionArg {
 /// `picomis-sim render`.
 #[derive(Debug, clap::Args)]
 pub struct RenderArgs {
-    /// A picomis-scene/1 JSON file or the name of a built-in scene (default: veach_mis).
+    /// A picomis-scene/1 JSON file (at most 64 shapes, 32 lights, 32 materials) or the name of
+    /// a built-in scene, see `picomis-sim scenes` (default: veach_mis).
     pub scene: Option<String>,
     /// Camera samples per pixel.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..))]
@@ -93,7 +94,7 @@ pub struct RenderArgs {
     /// Image height (default: the scene's; with only --width, keeps the aspect ratio).
     #[arg(long, value_name = "H", value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
-    /// Output file; the extension picks the format (default: <scene name>.png here).
+    /// Output file; the extension picks the format (default: `<scene name>.png` here).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }
@@ -109,7 +110,7 @@ pub struct FigureArgs {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
-    /// Output PNG (default: <scene name>_figure.png here).
+    /// Output PNG (default: `<scene name>_figure.png` here).
     #[arg(long, value_name = "FILE.png")]
     pub out: Option<PathBuf>,
 }

@@ -6,6 +6,20 @@
 //!
 //! Every pixel is `picomis::render_pixel`, whose random numbers depend only on the seed, the
 //! pixel and the camera sample: images do not depend on the number of threads.
+//!
+//! ```text
+//! picomis-sim scenes                                   # the built-in scenes, one line each
+//! picomis-sim render                                   # the Veach scene -> veach_mis.png
+//! picomis-sim render box_quad --spp 256 --mis balance --out box.exr
+//! picomis-sim render my_scene.json --width 640 --light-samples 2 --seed 7 --out my.pfm
+//! picomis-sim render lambert_sphere --out fb.rgb565    # bytes of an RGB565 LE framebuffer
+//! picomis-sim figure --spp 32                          # the seed's MIS figure -> veach_mis_figure.png
+//! ```
+//!
+//! Built-in scenes are built with their own capacities (`Scene<S, L, M>` from their counts, as a
+//! firmware build would); other files with [`scenes::HOST_SHAPES`], [`scenes::HOST_LIGHTS`] and
+//! [`scenes::HOST_MATERIALS`]. Bad scene files and flag values print
+//! `error: <file>: <entry>: <reason>` (or `error: <flag>: <reason>`) and exit with code 2.
 #![deny(missing_docs)]
 
 pub mod cli;
