@@ -226,6 +226,21 @@ cmd_measure() {
     say "-- $n"
     grep '^measure:' "$WORK/$n.log"
   done
+
+  step "measure: summary"
+  local core size board per tile stackline v t r d b u fb
+  for core in M4F M0; do
+    size=m4-size board=m4-size-board n=m4-measure
+    [ $core = M0 ] && size=m0-size board=m0-size-board n=m0-measure
+    per=$(sed -n 's/^measure: camera_sample: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$n.log")
+    tile=$(sed -n 's/^measure: render_tile: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$n.log")
+    stackline=$(sed -n 's/^stack peak: \(.*\)/\1/p' "$WORK/$size.log")
+    read -r v t r d b u < <(sections "$WORK/$board.elf")
+    fb=$(symbol_size "$WORK/$board.elf" FRAMEBUFFER)
+    say "$core: ${per:-?} instructions per camera sample (${tile:-?} with tone map and store);" \
+      "board build: text $t, rodata $r, data $d, bss $b (framebuffer $fb, other RAM $((d + b + u - fb)));" \
+      "stack $stackline"
+  done
 }
 
 cmd_lint() {
