@@ -1,22 +1,23 @@
 //! Shared helpers of the statistical test suites of picomis (the suites are in `tests/tests/*.rs`):
 //!
-//! - [`Stats`]: running mean and standard error (Welford, f64), and [`assert_unbiased`], the
-//!   z-test every unbiasedness check goes through (|mean - exact| < 4 stderr, and the stderr must
-//!   be small enough for the check to be able to fail);
+//! - [`Stats`]: running mean and standard error (Welford, f64), and [`assert_unbiased`] /
+//!   [`check_unbiased`], the z-test every unbiasedness check goes through (|mean - exact| <
+//!   4 stderr, and the stderr must be small enough for the check to be able to fail), with
+//!   [`check_agreement`] for two estimates of a value that has no closed form;
 //! - [`chi2_pooled`] / [`assert_chi2`]: Pearson's chi-square with Mitsuba's pooling of cells with
 //!   fewer than 5 expected samples and a Sidak-corrected significance level;
 //! - [`Histogram2d`]: a chart of the sample space on [0, 1)^2 binned into cells, whose expected
 //!   counts come from integrating a density numerically (adaptive Gauss-Legendre per cell);
 //! - [`Cap`]: a polar chart of (part of) the sphere of directions around an axis;
-//! - closed forms: [`sphere_irradiance`], [`lambert_polygon_irradiance`],
+//! - closed forms: [`sphere_irradiance`], [`sphere_irradiance_at`], [`lambert_polygon_irradiance`],
 //!   [`polygon_solid_angle`], [`cone_measure`];
 //! - scene builders: [`camera`], [`quad_corners`], [`shading_hit`], [`direct_stats`].
 //!
 //! Tests are host code: everything here computes in f64 unless it calls the kernel.
 
 use picomis::{
-    CameraDesc, FovAxis, Hit, Ray, RenderSettings, Rgb, Sampler, Scene, SurfacePoint, Vec2, Vec3,
-    estimate_direct, trace,
+    CameraDesc, FovAxis, Hit, Ray, RenderSettings, Rgb, Sampler, Scene, SurfacePoint, TechniqueEstimate,
+    Vec2, Vec3, estimate_direct, trace,
 };
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 use std::f64::consts::PI;
@@ -163,31 +164,62 @@ impl RgbStats {
 /// zero-variance estimator still carries a deterministic error of a few ulps.
 pub const F32_ROUNDING: f64 = 1e-5;
 
-/// Asserts that `stats` is an unbiased estimate of `exact`: |mean - exact| < 4 stderr (plus a
+/// Checks that `stats` is an unbiased estimate of `exact`: |mean - exact| < 4 stderr (plus a
 /// relative f32 rounding allowance of [`F32_ROUNDING`]), and that the check is meaningful:
 /// stderr <= `max_rel_stderr` * |exact|, so that a bias of a few percent would be detected.
-#[track_caller]
-pub fn assert_unbiased(label: &str, stats: &Stats, exact: f64, max_rel_stderr: f64) {
-    assert!(exact.is_finite() && exact != 0.0, "{label}: exact value {exact} is not a usable reference");
-    let (mean, se) = (stats.mean(), stats.stderr());
-    assert!(
-        mean.is_finite() && se.is_finite(),
-        "{label}: mean {mean}, stderr {se} after {} samples",
-        stats.n()
-    );
-    assert!(
-        se <= max_rel_stderr * exact.abs(),
-        "{label}: stderr {se:.3e} is {:.2}% of the exact value {exact:.6e}: too noisy for a meaningful test",
-        100.0 * se / exact.abs()
-    );
+/// `Err` holds the message of the failed check (suites that collect failures use this form).
+pub fn check_unbiased(label: &str, stats: &Stats, exact: f64, max_rel_stderr: f64) -> Result<(), String> {
+    check_z(label, stats.mean(), stats.stderr(), stats.n(), exact, 0.0, max_rel_stderr)
+}
+
+/// Checks that two independent estimates of the same unknown value agree: |a - b| < 4 sigma with
+/// sigma = sqrt(stderr_a^2 + stderr_b^2) (plus [`F32_ROUNDING`]), and that sigma <=
+/// `max_rel_stderr` * |b| (`b` is the reference, usually the estimate with more samples).
+pub fn check_agreement(label: &str, a: &Stats, b: &Stats, max_rel_stderr: f64) -> Result<(), String> {
+    check_z(label, a.mean(), a.stderr(), a.n(), b.mean(), b.stderr(), max_rel_stderr)
+}
+
+/// The z-test behind [`check_unbiased`] and [`check_agreement`]: `mean` (stderr `se`, `n`
+/// samples) against `exact` (stderr `se_exact`, 0 for a closed form).
+pub fn check_z(
+    label: &str,
+    mean: f64,
+    se: f64,
+    n: u64,
+    exact: f64,
+    se_exact: f64,
+    max_rel_stderr: f64,
+) -> Result<(), String> {
+    if !(exact.is_finite() && exact != 0.0 && se_exact.is_finite()) {
+        return Err(format!("{label}: reference {exact} (stderr {se_exact}) is not a usable reference"));
+    }
+    if !(mean.is_finite() && se.is_finite()) {
+        return Err(format!("{label}: mean {mean}, stderr {se} after {n} samples"));
+    }
+    let se = (se * se + se_exact * se_exact).sqrt();
+    if se > max_rel_stderr * exact.abs() {
+        return Err(format!(
+            "{label}: stderr {se:.3e} is {:.2}% of the exact value {exact:.6e}: too noisy for a meaningful test",
+            100.0 * se / exact.abs()
+        ));
+    }
     let tol = 4.0 * se + F32_ROUNDING * exact.abs();
     let z = if se > 0.0 { (mean - exact) / se } else { 0.0 };
-    assert!(
-        (mean - exact).abs() <= tol,
-        "{label}: mean {mean:.6e} vs exact {exact:.6e} (rel. error {:+.3e}), stderr {se:.3e}, z = {z:.2}, n = {}",
-        (mean - exact) / exact,
-        stats.n()
-    );
+    if (mean - exact).abs() > tol {
+        return Err(format!(
+            "{label}: mean {mean:.6e} vs exact {exact:.6e} (rel. error {:+.3e}), stderr {se:.3e}, z = {z:.2}, n = {n}",
+            (mean - exact) / exact
+        ));
+    }
+    Ok(())
+}
+
+/// Asserts [`check_unbiased`].
+#[track_caller]
+pub fn assert_unbiased(label: &str, stats: &Stats, exact: f64, max_rel_stderr: f64) {
+    if let Err(e) = check_unbiased(label, stats, exact, max_rel_stderr) {
+        panic!("{e}");
+    }
 }
 
 /// [`assert_unbiased`] on each colour channel.
@@ -563,6 +595,14 @@ pub fn sphere_irradiance(radiance: f64, r: f64, d: f64, cos_theta: f64) -> f64 {
     PI * radiance * (r / d) * (r / d) * cos_theta
 }
 
+/// Irradiance at `x` (unit normal `n`) from a sphere light of radiance `radiance`, centre `c`
+/// and radius `r`, fully above the horizon of `x` ([`sphere_irradiance`] in any position).
+pub fn sphere_irradiance_at(x: DVec3, n: DVec3, c: DVec3, r: f64, radiance: f64) -> f64 {
+    let v = c - x;
+    let d = v.length();
+    sphere_irradiance(radiance, r, d, n.dot(v) / d)
+}
+
 /// Irradiance at `x` (unit normal `n`) from a convex polygon of constant `radiance` entirely
 /// above the horizon, by Lambert's formula E = (L/2) |sum_k acos(v_k . v_k+1) n . normalize(v_k x
 /// v_k+1)| with v_k the unit vectors to the vertices (either winding).
@@ -637,7 +677,8 @@ pub fn shading_hit(object: usize, p: Vec3, n: Vec3) -> Hit {
 
 /// `n` independent direct-lighting estimates at `hit` towards `wo` (estimate i draws from
 /// `Sampler::new(seed, stream, i)`), as running statistics of the total radiance and of the
-/// light- and BSDF-technique parts.
+/// light- and BSDF-technique parts, with the number of estimates whose output (contributions or
+/// weight sums) was not finite and how many samples of each technique found light.
 pub fn direct_stats<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
@@ -650,6 +691,14 @@ pub fn direct_stats<const S: usize, const L: usize, const M: usize>(
     for i in 0..n {
         let mut sampler = Sampler::new(settings.seed(), stream, i);
         let (light, bsdf) = estimate_direct(scene, settings, hit, wo, &mut sampler);
+        let finite = |t: &TechniqueEstimate| {
+            t.contribution.is_finite() && t.weight_sum.is_finite() && t.weight_sum >= 0.0
+        };
+        if !(finite(&light) && finite(&bsdf)) {
+            out.non_finite += 1;
+        }
+        out.light_found += u64::from(light.found);
+        out.bsdf_found += u64::from(bsdf.found);
         out.total.push(light.contribution + bsdf.contribution);
         out.light.push(light.contribution);
         out.bsdf.push(bsdf.contribution);
@@ -682,6 +731,12 @@ pub struct DirectStats {
     pub light: RgbStats,
     /// BSDF-sampling contribution.
     pub bsdf: RgbStats,
+    /// Estimates with a non-finite contribution or weight sum (or a negative weight sum).
+    pub non_finite: u64,
+    /// Light samples that found light.
+    pub light_found: u64,
+    /// BSDF samples that found light.
+    pub bsdf_found: u64,
 }
 
 #[cfg(test)]
@@ -835,6 +890,20 @@ mod tests {
             s.push(1.0 + 0.01 * f64::from(i % 2));
         }
         assert_unbiased("biased", &s, 1.1, 0.02);
+    }
+
+    #[test]
+    fn agreement_uses_both_standard_errors() {
+        let (mut a, mut b) = (Stats::new(), Stats::new());
+        for i in 0..1000 {
+            a.push(1.0 + 0.1 * f64::from(i % 2));
+            b.push(1.06 + 0.1 * f64::from(i % 2));
+        }
+        // Means 1.05 and 1.11, each with stderr ~1.6e-3: 0.06 apart is ~27 combined sigmas.
+        assert!(check_agreement("apart", &a, &b, 0.02).unwrap_err().contains("z ="));
+        assert!(check_agreement("same", &a, &a, 0.02).is_ok());
+        // Too noisy to be meaningful.
+        assert!(check_agreement("noisy", &a, &b, 1e-4).unwrap_err().contains("too noisy"));
     }
 
     #[test]

@@ -1,0 +1,945 @@
+//! Failure cases of direct lighting (issue 6): the configurations where one technique breaks
+//! down, run through every method, with fixed seeds and z-score tolerances.
+//!
+//! Methods (the table's columns): BSDF sampling only; light sampling only with sphere lights
+//! sampled by area and by cone; MIS (cone) with the average, balance, power 2, maximum and
+//! cutoff 0.1 heuristics. One light and one BSDF sample per estimate; N estimates per method
+//! (estimate i of method k draws from `Sampler::new(SEED, 16 * case + k, i)`).
+//!
+//! For every case and method:
+//! - every estimate is finite (contributions and weight sums; mean and variance of the run);
+//! - where the expectation is known it is asserted: |mean - ref| < 4 stderr with stderr < 2% of
+//!   ref (`check_unbiased`), against a closed form, or, where none exists, against a reference
+//!   run of MIS balance with 8 N estimates (`check_agreement`, combined standard error);
+//! - cases whose expectation is exactly 0 (light behind an occluder, shading point inside a
+//!   one-sided sphere light, lights of zero radiance) require every estimate of every method to
+//!   be exactly 0 and no sample to find light;
+//! - a method that cannot reach the expectation at N (for instance BSDF sampling aiming at a
+//!   light 1e-6 rad across, or light sampling aiming at a GGX lobe 1e-4 wide) is marked with
+//!   the reason in its case; it is still required to be finite, and where a part of it can
+//!   reach its share (the average heuristic gives each technique half of f) that part is
+//!   asserted instead;
+//! - the relative variance Var[F] / ref^2 of the per-estimate value is recorded.
+//!
+//! The variances form a markdown table, printed with `--nocapture` and written to the file
+//! named by the environment variable `PICOMIS_STABILITY_TABLE` (each test rewrites the file
+//! with every row finished so far, so it is complete once the whole file has run):
+//! `PICOMIS_STABILITY_TABLE=stability.md cargo test --release -p picomis-tests --test stability
+//! -- --nocapture`. docs/stability.md holds one such table with a lesson per case.
+
+use picomis::{
+    Film, Heuristic, Hit, LightSelection, Material, MaterialId, Method, Ray, RenderSettings, Rgb, Scene,
+    Shape, SphereSampling, Technique, Vec3,
+};
+use picomis_tests::{
+    DVec3, Stats, camera, check_unbiased, check_z, d3, direct_stats, floor_corners,
+    lambert_polygon_irradiance, quad_corners, shading_hit, sphere_irradiance_at,
+};
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// Room for every case: shapes, lights, materials.
+type S = Scene<6, 6, 4>;
+
+const SEED: u32 = 0x0057_AB1E;
+/// Largest standard error allowed, relative to the reference value.
+const MAX_REL_STDERR: f64 = 0.02;
+/// Estimates per method unless a case says otherwise.
+const N: u32 = 200_000;
+/// Estimates of the MIS balance reference, per estimate of a method.
+const REFERENCE_FACTOR: u32 = 8;
+/// Albedo of every Lambertian receiver (grey: channel 0 stands for all three).
+const RHO: f32 = 0.8;
+/// Reflectance of every GGX receiver.
+const R_GGX: f32 = 0.9;
+
+// ---------------------------------------------------------------------------------------------
+// Methods
+
+/// A column of the table: a method with its sphere-light sampling.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Col {
+    Bsdf,
+    LightArea,
+    LightCone,
+    Average,
+    Balance,
+    Power,
+    Maximum,
+    Cutoff,
+}
+
+const COLS: [Col; 8] = [
+    Col::Bsdf,
+    Col::LightArea,
+    Col::LightCone,
+    Col::Average,
+    Col::Balance,
+    Col::Power,
+    Col::Maximum,
+    Col::Cutoff,
+];
+
+impl Col {
+    fn name(self) -> &'static str {
+        match self {
+            Col::Bsdf => "BSDF",
+            Col::LightArea => "light (area)",
+            Col::LightCone => "light (cone)",
+            Col::Average => "average",
+            Col::Balance => "balance",
+            Col::Power => "power 2",
+            Col::Maximum => "maximum",
+            Col::Cutoff => "cutoff 0.1",
+        }
+    }
+
+    fn settings(self, selection: LightSelection) -> RenderSettings {
+        let (method, spheres) = match self {
+            Col::Bsdf => (Method::BsdfOnly, SphereSampling::Cone),
+            Col::LightArea => (Method::LightOnly, SphereSampling::Area),
+            Col::LightCone => (Method::LightOnly, SphereSampling::Cone),
+            Col::Average => (Method::Mis(Heuristic::Average), SphereSampling::Cone),
+            Col::Balance => (Method::Mis(Heuristic::Balance), SphereSampling::Cone),
+            Col::Power => (Method::Mis(Heuristic::Power { beta: 2.0 }), SphereSampling::Cone),
+            Col::Maximum => (Method::Mis(Heuristic::Maximum), SphereSampling::Cone),
+            Col::Cutoff => (Method::Mis(Heuristic::Cutoff { alpha: 0.1 }), SphereSampling::Cone),
+        };
+        RenderSettings::new(method, 1, 1, 1, SEED)
+            .unwrap()
+            .with_sphere_sampling(spheres)
+            .with_light_selection(selection)
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Cases
+
+/// What a case's estimates converge to.
+#[derive(Clone, Copy, Debug)]
+enum Reference {
+    /// A closed form.
+    Exact(f64),
+    /// Exactly zero: every estimate of every method must be 0.
+    Zero,
+    /// No closed form: a reference run of MIS balance with `REFERENCE_FACTOR` N estimates.
+    Agreement,
+}
+
+/// What is asserted about one method (besides finiteness, which is always asserted).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Check {
+    /// The total converges to the reference.
+    Total,
+    /// The total converges to the reference with zero variance.
+    ZeroVariance,
+    /// The total converges to another value by design (exactly 0: every estimate is 0).
+    Value(f64),
+    /// Only this technique's part can reach its share (`fraction` of the reference) at N.
+    Part(Technique, f64),
+    /// The method cannot reach the expectation at N: finite and recorded only.
+    FiniteOnly,
+}
+
+struct Case {
+    label: String,
+    scene: S,
+    hit: Hit,
+    wo: Vec3,
+    n: u32,
+    selection: LightSelection,
+    reference: Reference,
+    /// Methods not checked with [`Check::Total`], and why.
+    except: Vec<(Col, Check, &'static str)>,
+    /// An approximate closed form the agreement reference must match, to a relative tolerance.
+    anchor: Option<(f64, f64, &'static str)>,
+}
+
+impl Case {
+    fn new(label: impl Into<String>, scene: S, hit: Hit, wo: Vec3, reference: Reference) -> Self {
+        Case {
+            label: label.into(),
+            scene,
+            hit,
+            wo: wo.normalize(),
+            n: N,
+            selection: LightSelection::Uniform,
+            reference,
+            except: Vec::new(),
+            anchor: None,
+        }
+    }
+
+    fn except(mut self, col: Col, check: Check, why: &'static str) -> Self {
+        self.except.push((col, check, why));
+        self
+    }
+
+    fn selection(mut self, selection: LightSelection) -> Self {
+        self.selection = selection;
+        self
+    }
+
+    fn anchor(mut self, value: f64, rel_tol: f64, why: &'static str) -> Self {
+        self.anchor = Some((value, rel_tol, why));
+        self
+    }
+
+    fn check(&self, col: Col) -> (Check, &'static str) {
+        self.except.iter().find(|(c, ..)| *c == col).map_or((Check::Total, ""), |&(_, k, why)| (k, why))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene builders
+
+struct Setup {
+    scene: S,
+    black: MaterialId,
+}
+
+impl Setup {
+    fn new() -> Self {
+        let mut scene: S = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
+        let black = scene.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
+        Setup { scene, black }
+    }
+
+    /// A scene whose object 0 is a floor (y = 0, facing +y, 100 x 100) of `receiver`.
+    fn floor(receiver: Material) -> Self {
+        let mut s = Setup::new();
+        s.add(Shape::quad(floor_corners(50.0)).unwrap(), receiver);
+        s
+    }
+
+    fn add(&mut self, shape: Shape, material: Material) -> usize {
+        let m = self.scene.add_material(material).unwrap();
+        self.scene.add_shape(shape, m).unwrap().index()
+    }
+
+    fn sphere_light(&mut self, c: Vec3, r: f32, radiance: f32) {
+        let id = self.scene.add_shape(Shape::sphere(c, r).unwrap(), self.black).unwrap();
+        self.scene.add_area_light(id, Rgb::splat(radiance)).unwrap();
+    }
+
+    fn quad_light(&mut self, corners: [Vec3; 4], radiance: f32) {
+        let id = self.scene.add_shape(Shape::quad(corners).unwrap(), self.black).unwrap();
+        self.scene.add_area_light(id, Rgb::splat(radiance)).unwrap();
+    }
+}
+
+fn lambertian() -> Material {
+    Material::lambertian(Rgb::splat(RHO)).unwrap()
+}
+
+fn ggx(alpha: f32) -> Material {
+    Material::ggx_conductor(alpha, Rgb::splat(R_GGX)).unwrap()
+}
+
+/// Reflected radiance of a Lambertian receiver under irradiance `e`.
+fn lambert_out(e: f64) -> f64 {
+    f64::from(RHO) / PI * e
+}
+
+/// The shading point that a camera ray from `origin` towards `target` finds (f32 rounding of the
+/// intersection included: the shadow-ray acne test), and the direction back to the eye.
+fn view(scene: &S, origin: Vec3, target: Vec3, object: usize) -> (Hit, Vec3) {
+    let ray = Ray { origin, dir: (target - origin).normalize() };
+    let hit = scene.intersect(&ray, 0.0, f32::INFINITY, None).expect("the view ray hits the scene");
+    assert_eq!(hit.object, object, "the view ray must hit object {object} first");
+    assert!(hit.front, "the view ray must hit the front side");
+    (hit, -ray.dir)
+}
+
+/// A direction `deg` degrees from +y towards +x (or towards -x for negative angles).
+fn tilt(deg: f32) -> Vec3 {
+    let t = deg.to_radians();
+    Vec3::new(t.sin(), t.cos(), 0.0)
+}
+
+/// Shading point at the origin of the floor, normal +y.
+fn origin_hit() -> Hit {
+    shading_hit(0, Vec3::ZERO, Vec3::Y)
+}
+
+/// A general viewing direction above the floor.
+fn wo_default() -> Vec3 {
+    Vec3::new(0.3, 0.9, -0.2).normalize()
+}
+
+/// Sphere irradiance at hit (per the hit's own f32 point and normal).
+fn sphere_e(hit: &Hit, c: Vec3, r: f32, radiance: f32) -> f64 {
+    sphere_irradiance_at(d3(hit.point.p), d3(hit.point.n), d3(c), f64::from(r), f64::from(radiance))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Running a case
+
+/// Statistics of channel 0 (every colour here is grey) of one method's run.
+struct Run {
+    total: Stats,
+    light: Stats,
+    bsdf: Stats,
+    non_finite: u64,
+    light_found: u64,
+    bsdf_found: u64,
+}
+
+fn run(case: &Case, settings: &RenderSettings, stream: u32, n: u32) -> Run {
+    let st = direct_stats(&case.scene, settings, &case.hit, case.wo, stream, n);
+    let all_finite = [&st.total, &st.light, &st.bsdf]
+        .iter()
+        .flat_map(|s| s.0.iter())
+        .all(|c| c.mean().is_finite() && c.variance().is_finite());
+    Run {
+        total: st.total.0[0],
+        light: st.light.0[0],
+        bsdf: st.bsdf.0[0],
+        non_finite: st.non_finite + u64::from(!all_finite),
+        light_found: st.light_found,
+        bsdf_found: st.bsdf_found,
+    }
+}
+
+/// A finished case: its table row and the failed checks.
+struct Outcome {
+    row: String,
+    notes: Vec<String>,
+    failures: Vec<String>,
+}
+
+fn run_case(case: &Case, id: u32) -> Outcome {
+    let start = Instant::now();
+    let mut failures = Vec::new();
+    let mut notes = Vec::new();
+    let label = &case.label;
+    // The reference value, and its statistics when it is itself an estimate.
+    let (reference, reference_stats, reference_text) = match case.reference {
+        Reference::Exact(v) => (v, None, format!("closed form {v:.4e}")),
+        Reference::Zero => (0.0, None, "exactly 0".to_string()),
+        Reference::Agreement => {
+            let settings = Col::Balance.settings(case.selection);
+            let r = run(case, &settings, 16 * id + 15, REFERENCE_FACTOR * case.n);
+            if r.non_finite > 0 {
+                failures.push(format!("{label}, reference run: {} non-finite estimates", r.non_finite));
+            }
+            let text = format!(
+                "balance x{REFERENCE_FACTOR}: {:.4e} ± {:.1e}",
+                r.total.mean(),
+                r.total.stderr() / r.total.mean()
+            );
+            (r.total.mean(), Some(r.total), text)
+        }
+    };
+    if let Some((value, rel_tol, why)) = case.anchor {
+        let se = reference_stats.map_or(0.0, |s| s.stderr());
+        let dev = (reference - value).abs();
+        notes.push(format!(
+            "{label}: reference {reference:.6e} vs approximate closed form {value:.6e} ({why})"
+        ));
+        if dev > 4.0 * se + rel_tol * value.abs() {
+            failures.push(format!(
+                "{label}: reference {reference:.6e} is {:.2e} (relative) from the approximate closed form \
+                 {value:.6e}, allowed {rel_tol:e} + 4 stderr ({why})",
+                dev / value.abs()
+            ));
+        }
+    }
+
+    let mut cells = Vec::new();
+    for (k, col) in COLS.into_iter().enumerate() {
+        let name = format!("{label}, {}", col.name());
+        let r = run(case, &col.settings(case.selection), 16 * id + k as u32, case.n);
+        let (check, why) = case.check(col);
+        if !why.is_empty() {
+            let mean = if reference != 0.0 { r.total.mean() / reference } else { r.total.mean() };
+            notes.push(format!("{name}: {check:?} (mean / ref = {mean:.4}): {why}"));
+        }
+        if r.non_finite > 0 {
+            failures.push(format!("{name}: {} estimates were not finite", r.non_finite));
+        }
+        let compare = |stats: &Stats, target: f64| -> Result<(), String> {
+            match reference_stats {
+                Some(rs) => {
+                    let scale = target / reference;
+                    check_z(
+                        &name,
+                        stats.mean(),
+                        stats.stderr(),
+                        stats.n(),
+                        target,
+                        scale * rs.stderr(),
+                        MAX_REL_STDERR,
+                    )
+                }
+                None => check_unbiased(&name, stats, target, MAX_REL_STDERR),
+            }
+        };
+        let exactly_zero = |r: &Run| -> Result<(), String> {
+            if r.total.mean() == 0.0 && r.total.variance() == 0.0 && r.light_found + r.bsdf_found == 0 {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{name}: expected exactly 0 from every estimate, got mean {:.3e}, variance {:.3e}, \
+                     {} light and {} BSDF samples finding light",
+                    r.total.mean(),
+                    r.total.variance(),
+                    r.light_found,
+                    r.bsdf_found
+                ))
+            }
+        };
+        let result = match (case.reference, check) {
+            (Reference::Zero, _) | (_, Check::Value(0.0)) => exactly_zero(&r),
+            (_, Check::Total) => compare(&r.total, reference),
+            (_, Check::ZeroVariance) => compare(&r.total, reference).and_then(|()| {
+                let rel = r.total.variance() / (reference * reference);
+                if rel <= 1e-10 {
+                    Ok(())
+                } else {
+                    Err(format!("{name}: relative variance {rel:.3e}, expected 0"))
+                }
+            }),
+            (_, Check::Value(v)) => check_unbiased(&name, &r.total, v, MAX_REL_STDERR),
+            (_, Check::Part(Technique::Light, f)) => compare(&r.light, f * reference),
+            (_, Check::Part(Technique::Bsdf, f)) => compare(&r.bsdf, f * reference),
+            (_, Check::FiniteOnly) => Ok(()),
+        };
+        if let Err(e) = result {
+            failures.push(e);
+        }
+        cells.push(cell(case, col, check, &r, reference));
+    }
+    let row = format!("| {label} | {reference_text} | {} | {} |", case.n, cells.join(" | "));
+    notes.push(format!("{label}: {:.2} s", start.elapsed().as_secs_f64()));
+    Outcome { row, notes, failures }
+}
+
+/// A table cell: the relative variance of the method, with a mark for what was asserted.
+fn cell(case: &Case, col: Col, check: Check, r: &Run, reference: f64) -> String {
+    let var = r.total.variance();
+    if let Reference::Zero = case.reference {
+        return if var == 0.0 && r.total.mean() == 0.0 { "0".into() } else { format!("{var:.1e} (abs.)") };
+    }
+    let rel = format!("{:.1e}", var / (reference * reference));
+    let found = match col {
+        Col::Bsdf => r.bsdf_found,
+        Col::LightArea | Col::LightCone => r.light_found,
+        _ => r.light_found + r.bsdf_found,
+    };
+    match check {
+        Check::FiniteOnly if found == 0 => "no hit †".into(),
+        Check::FiniteOnly => format!("{rel} †"),
+        Check::Part(..) => format!("{rel} ½"),
+        Check::Value(0.0) => "0 ‡".into(),
+        Check::Value(_) => format!("{rel} ‡"),
+        Check::Total | Check::ZeroVariance if var == 0.0 => "0".into(),
+        Check::Total | Check::ZeroVariance => rel,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The table
+
+static TABLE: Mutex<Vec<(u32, String)>> = Mutex::new(Vec::new());
+
+const LEGEND: &str = "Relative variance Var[F] / ref^2 of one estimate F (one light and one BSDF sample; \
+light-only and BSDF-only methods draw only their own sample), at the shading point of each case. \
+Plain numbers: the mean was asserted equal to the reference (z < 4, stderr < 2%). \
+`†`: the method cannot reach the expectation at these sample counts (finiteness asserted, \
+mean not); `no hit`: not one of its samples found light. `½`: only the reachable half of the \
+average heuristic (the technique that can find the light) was asserted. `‡`: the method \
+converges to another value by design (BSDF sampling cannot find point lights), asserted. \
+Rows whose reference is exactly 0: every estimate of every method was exactly 0.";
+
+fn table(rows: &[(u32, String)]) -> String {
+    let mut t = String::new();
+    let names: Vec<&str> = COLS.iter().map(|c| c.name()).collect();
+    let _ = writeln!(t, "| case | reference | N | {} |", names.join(" | "));
+    let _ = writeln!(t, "|---|---|---:|{}", "---:|".repeat(COLS.len()));
+    for (_, row) in rows {
+        let _ = writeln!(t, "{row}");
+    }
+    let _ = writeln!(t, "\n{LEGEND}");
+    t
+}
+
+/// Runs a group of cases, records their rows, prints them, rewrites the table file, and only
+/// then fails with every failed check of the group.
+fn run_group(group: u32, cases: Vec<Case>) {
+    let mut failures = Vec::new();
+    let mut rows = Vec::new();
+    for (i, case) in cases.iter().enumerate() {
+        let id = 100 * group + i as u32;
+        let out = run_case(case, id);
+        for note in &out.notes {
+            println!("  {note}");
+        }
+        failures.extend(out.failures);
+        rows.push((id, out.row));
+    }
+    println!("{}", table(&rows));
+    {
+        let mut all = TABLE.lock().unwrap_or_else(|e| e.into_inner());
+        all.extend(rows);
+        all.sort_by_key(|(id, _)| *id);
+        if let Some(path) = std::env::var_os("PICOMIS_STABILITY_TABLE") {
+            std::fs::write(&path, table(&all)).expect("write the stability table");
+        }
+    }
+    assert!(failures.is_empty(), "{} failed checks:\n{}", failures.len(), failures.join("\n"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1. Tiny sphere lights
+
+const BSDF_MISSES_TINY: &str = "a cosine-sampled direction hits a light of angular radius r/d with probability \
+~(r/d)^2 cos(theta): at most a few hits in N";
+const AVERAGE_LIGHT_HALF: &str = "the average gives each technique half of f; the BSDF half is as unreachable as \
+BSDF sampling, the light half (0.5 ref) is asserted";
+
+/// A Lambertian floor under a sphere light of radius `k` d at distance d = 2, 30 degrees off
+/// the normal, radiance 1/k^2 (so that the irradiance is pi cos(30 deg) for every k).
+fn tiny_light(k: f32) -> Case {
+    let mut s = Setup::floor(lambertian());
+    let (d, c) = (2.0, tilt(30.0) * 2.0);
+    let (r, radiance) = (k * d, 1.0 / (k * k));
+    s.sphere_light(c, r, radiance);
+    let hit = origin_hit();
+    let exact = lambert_out(sphere_e(&hit, c, r, radiance));
+    Case::new(
+        format!("tiny sphere light, r/d = {k:.0e}"),
+        s.scene,
+        hit,
+        wo_default(),
+        Reference::Exact(exact),
+    )
+    .except(Col::Bsdf, Check::FiniteOnly, BSDF_MISSES_TINY)
+    .except(Col::Average, Check::Part(Technique::Light, 0.5), AVERAGE_LIGHT_HALF)
+}
+
+#[test]
+fn tiny_sphere_lights() {
+    run_group(1, [1e-2, 1e-3, 1e-4, 1e-5, 1e-6].into_iter().map(tiny_light).collect());
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. Huge and close lights
+
+fn almost_touching() -> Case {
+    let mut s = Setup::floor(lambertian());
+    let c = Vec3::new(0.0, 1.001, 0.0);
+    s.sphere_light(c, 1.0, 1.0);
+    let hit = origin_hit();
+    let exact = lambert_out(sphere_e(&hit, c, 1.0, 1.0));
+    Case::new(
+        "sphere light 1e-3 above the shading point (r = 1)",
+        s.scene,
+        hit,
+        wo_default(),
+        Reference::Exact(exact),
+    )
+    .except(
+        Col::LightArea,
+        Check::FiniteOnly,
+        "uniform area sampling of a sphere at gap g from the receiver: the points under the shading point \
+             carry ~1/g^2, relative variance ~4/g^2 = 4e6",
+    )
+}
+
+fn touching() -> Case {
+    let mut s = Setup::floor(lambertian());
+    // Tangent to the floor at the origin, seen from 0.1 away: the sphere touches the horizon.
+    let c = Vec3::Y;
+    s.sphere_light(c, 1.0, 1.0);
+    let hit = shading_hit(0, Vec3::new(0.1, 0.0, 0.0), Vec3::Y);
+    let exact = lambert_out(sphere_e(&hit, c, 1.0, 1.0));
+    Case::new(
+        "sphere light touching the floor, 0.1 from the contact",
+        s.scene,
+        hit,
+        wo_default(),
+        Reference::Exact(exact),
+    )
+    .except(
+        Col::LightArea,
+        Check::FiniteOnly,
+        "0.1 from the contact the sphere is only g = 0.1^2 / 2 = 5e-3 above the shading point: area \
+         sampling's relative variance ~4/g^2 = 1.6e5",
+    )
+}
+
+fn inside() -> Case {
+    let mut s = Setup::floor(lambertian());
+    // The floor cuts through the sphere; the shading point is inside it. Emission is one-sided
+    // (outward): no light reaches the inside.
+    s.sphere_light(Vec3::new(0.0, 0.5, 0.0), 1.0, 10.0);
+    let (hit, wo) = view(&s.scene, Vec3::new(0.2, 0.6, 0.1), Vec3::new(0.05, 0.0, -0.02), 0);
+    Case::new("shading point inside a sphere light", s.scene, hit, wo, Reference::Zero)
+}
+
+fn huge_quad() -> Case {
+    let mut s = Setup::floor(lambertian());
+    let h = 1.0e4;
+    let corners =
+        quad_corners(Vec3::new(-h, 1.0, -h), Vec3::new(2.0 * h, 0.0, 0.0), Vec3::new(0.0, 0.0, 2.0 * h));
+    assert!(Shape::quad(corners).unwrap().normal_at(corners[0]).y < 0.0);
+    s.quad_light(corners, 1.0);
+    let hit = origin_hit();
+    let exact = lambert_out(lambert_polygon_irradiance(DVec3::ZERO, DVec3::Y, &corners.map(d3), 1.0));
+    let light_fails = "uniform area sampling of a 2e4 x 2e4 quad at height 1: relative variance ~area / (3 pi h^2) \
+                       = 4e7 (the cone option changes nothing for quads)";
+    Case::new("quad light 2e4 x 2e4 at height 1", s.scene, hit, wo_default(), Reference::Exact(exact))
+        .except(Col::LightArea, Check::FiniteOnly, light_fails)
+        .except(Col::LightCone, Check::FiniteOnly, light_fails)
+        .except(
+            Col::Average,
+            Check::Part(Technique::Bsdf, 0.5),
+            "the light half of the average is as unreachable as light sampling; the BSDF half (0.5 ref) is asserted",
+        )
+}
+
+#[test]
+fn huge_and_close_lights() {
+    run_group(2, vec![almost_touching(), touching(), inside(), huge_quad()]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. Near-mirror GGX, grazing angles, a light below the horizon
+
+const LIGHT_MISSES_LOBE: &str = "light sampling must land in a GGX lobe ~2 alpha wide inside the light's cone: \
+probability ~(2 alpha / angular radius)^2";
+const AVERAGE_BSDF_HALF: &str = "the light half of the average is as unreachable as light sampling; the BSDF \
+half (0.5 ref) is asserted";
+
+/// A GGX floor seen from `wo`, with a sphere light of angular radius `k` centred on the mirror
+/// direction of `wo`, at distance 3.
+fn mirror_case(alpha: f32, k: f32) -> Case {
+    let mut s = Setup::floor(ggx(alpha));
+    let wo = Vec3::new(-0.5, 0.75, 0.1).normalize();
+    let mirror = Vec3::new(-wo.x, wo.y, -wo.z);
+    let (d, radiance) = (3.0, 1.0);
+    s.sphere_light(mirror * d, k * d, radiance);
+    Case::new(
+        format!("GGX alpha {alpha:.0e}, light r/d = {k:.0e} on the mirror direction"),
+        s.scene,
+        origin_hit(),
+        wo,
+        Reference::Agreement,
+    )
+}
+
+fn near_mirror(k: f32) -> Case {
+    // With alpha = 1e-4 the lobe (~2e-4 rad) lies inside the light: L_r = R L (1 - m) E[G1(wi)]
+    // with 1 - G1 ~ alpha^2 tan^2 ~ 1e-8 and m the lobe's mass outside the light. The light's
+    // cone (radius k) maps to an ellipse of half-vector slopes with semi-axes k/2 and
+    // k/(2 cos(theta_o)); GGX puts alpha^2/s^2 of its mass beyond slope s, so
+    // m ~ alpha^2 mean(1/s^2) = 2 alpha^2 (1 + cos^2(theta_o)) / k^2 (3e-4 for k = 1e-2).
+    let alpha = 1e-4f64;
+    let cos_o = f64::from(Vec3::new(-0.5, 0.75, 0.1).normalize().y);
+    let m = 2.0 * alpha * alpha * (1.0 + cos_o * cos_o) / f64::from(k * k);
+    mirror_case(alpha as f32, k)
+        .anchor(f64::from(R_GGX) * (1.0 - m), 3e-5, "near-mirror limit R L (1 - lobe mass outside the light)")
+        .except(Col::LightArea, Check::FiniteOnly, LIGHT_MISSES_LOBE)
+        .except(Col::LightCone, Check::FiniteOnly, LIGHT_MISSES_LOBE)
+        .except(Col::Average, Check::Part(Technique::Bsdf, 0.5), AVERAGE_BSDF_HALF)
+}
+
+fn grazing_view_lambert() -> Case {
+    let mut s = Setup::floor(lambertian());
+    let c = tilt(-40.0) * 3.0;
+    s.sphere_light(c, 1.0, 1.0);
+    let hit = origin_hit();
+    let exact = lambert_out(sphere_e(&hit, c, 1.0, 1.0));
+    let wo = Vec3::new(1.0, 1e-6, 0.0);
+    Case::new("Lambertian, grazing view (cos 1e-6)", s.scene, hit, wo, Reference::Exact(exact))
+}
+
+fn grazing_view_ggx() -> Case {
+    let mut s = Setup::floor(ggx(0.2));
+    // The light near the (grazing) mirror direction, still fully above the horizon.
+    s.sphere_light(tilt(-70.0) * 3.0, 1.0, 1.0);
+    let wo = Vec3::new(1.0, 1e-6, 0.0);
+    Case::new("GGX alpha 0.2, grazing view (cos 1e-6)", s.scene, origin_hit(), wo, Reference::Agreement)
+}
+
+/// A sphere light of angular radius `k` whose centre is at cos(theta) = 2k (just above the
+/// horizon), radiance 1/k^2.
+fn grazing_light(k: f32) -> Case {
+    let mut s = Setup::floor(lambertian());
+    let cos = 2.0 * k;
+    let d = 2.0;
+    let c = Vec3::new((1.0 - cos * cos).sqrt(), cos, 0.0) * d;
+    let (r, radiance) = (k * d, 1.0 / (k * k));
+    s.sphere_light(c, r, radiance);
+    let hit = origin_hit();
+    let exact = lambert_out(sphere_e(&hit, c, r, radiance));
+    Case::new(
+        format!("Lambertian, grazing light (cos {cos:.0e}, r/d = {k:.0e})"),
+        s.scene,
+        hit,
+        wo_default(),
+        Reference::Exact(exact),
+    )
+    .except(Col::Bsdf, Check::FiniteOnly, BSDF_MISSES_TINY)
+    .except(Col::Average, Check::Part(Technique::Light, 0.5), AVERAGE_LIGHT_HALF)
+}
+
+fn below_horizon() -> Case {
+    let mut s = Setup::floor(lambertian());
+    // Centre 80 degrees off the normal at d = 2 with r = 1: a third of the sphere is under the
+    // floor (no closed form: agreement).
+    s.sphere_light(tilt(80.0) * 2.0, 1.0, 1.0);
+    Case::new(
+        "sphere light partly below the horizon",
+        s.scene,
+        origin_hit(),
+        wo_default(),
+        Reference::Agreement,
+    )
+}
+
+#[test]
+fn glossy_and_grazing() {
+    run_group(
+        3,
+        vec![
+            near_mirror(1.0 / 3.0),
+            near_mirror(1e-2),
+            mirror_case(1e-2, 1e-2),
+            grazing_view_lambert(),
+            grazing_view_ggx(),
+            grazing_light(5e-4),
+            grazing_light(5e-7),
+            below_horizon(),
+        ],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. Point lights, lights of very different power, lights of zero radiance
+
+/// Reflected radiance at the origin of the floor from a point light.
+fn point_out(p: Vec3, intensity: f32) -> f64 {
+    let v = d3(p);
+    lambert_out(f64::from(intensity) * v.y / v.length() / v.length_squared())
+}
+
+const BSDF_NO_POINTS: &str =
+    "BSDF sampling cannot find a delta light: it converges to the area lights' part only";
+
+fn point_only() -> Case {
+    let mut s = Setup::floor(lambertian());
+    let p = Vec3::new(1.0, 2.0, 0.5);
+    s.scene.add_point_light(p, Rgb::splat(5.0)).unwrap();
+    let exact = point_out(p, 5.0);
+    let mut case =
+        Case::new("point light only", s.scene, origin_hit(), wo_default(), Reference::Exact(exact)).except(
+            Col::Bsdf,
+            Check::Value(0.0),
+            BSDF_NO_POINTS,
+        );
+    // One point light: every light sample gives the same value, with weight 1 under every
+    // heuristic (a delta light cannot be produced by BSDF sampling).
+    for col in COLS.into_iter().skip(1) {
+        case =
+            case.except(col, Check::ZeroVariance, "a lone point light: every light sample is the same value");
+    }
+    case
+}
+
+fn point_and_sphere() -> Case {
+    let mut s = Setup::floor(lambertian());
+    let c = tilt(30.0) * 3.0;
+    s.sphere_light(c, 0.8, 4.0);
+    let p = Vec3::new(-1.0, 2.0, 1.5);
+    s.scene.add_point_light(p, Rgb::splat(3.0)).unwrap();
+    let hit = origin_hit();
+    let sphere = lambert_out(sphere_e(&hit, c, 0.8, 4.0));
+    Case::new(
+        "point light + sphere light",
+        s.scene,
+        hit,
+        wo_default(),
+        Reference::Exact(sphere + point_out(p, 3.0)),
+    )
+    .except(Col::Bsdf, Check::Value(sphere), BSDF_NO_POINTS)
+}
+
+/// Lights whose contributions span 7 orders of magnitude: a bright sphere, a dim sphere, a point
+/// light and a quad, none hiding another from the origin.
+fn mixed_powers(selection: LightSelection) -> Case {
+    let mut s = Setup::floor(lambertian());
+    let hit = origin_hit();
+    let spheres = [(Vec3::new(2.0, 3.0, 0.0), 1.0, 2.5e3), (Vec3::new(-2.0, 3.0, 1.0), 0.5, 1e-2)];
+    let mut area = 0.0;
+    for (c, r, l) in spheres {
+        s.sphere_light(c, r, l);
+        area += lambert_out(sphere_e(&hit, c, r, l));
+    }
+    let corners =
+        quad_corners(Vec3::new(-0.5, 2.0, -2.5), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0));
+    s.quad_light(corners, 1.0);
+    area += lambert_out(lambert_polygon_irradiance(DVec3::ZERO, DVec3::Y, &corners.map(d3), 1.0));
+    let p = Vec3::new(0.0, 4.0, 2.0);
+    s.scene.add_point_light(p, Rgb::splat(1e3)).unwrap();
+    let total = area + point_out(p, 1e3);
+    Case::new(
+        format!("4 lights, powers 1e-2 to 1e5, {selection:?} selection"),
+        s.scene,
+        hit,
+        wo_default(),
+        Reference::Exact(total),
+    )
+    .selection(selection)
+    .except(Col::Bsdf, Check::Value(area), BSDF_NO_POINTS)
+}
+
+fn zero_radiance(all_zero: bool) -> Case {
+    let mut s = Setup::floor(lambertian());
+    s.sphere_light(Vec3::new(-2.0, 2.5, 0.0), 0.7, 0.0);
+    s.scene.add_point_light(Vec3::new(1.0, 2.0, 1.0), Rgb::ZERO).unwrap();
+    if all_zero {
+        // Power selection with a total power of 0 falls back to uniform selection.
+        return Case::new(
+            "only lights of zero radiance (power selection)",
+            s.scene,
+            origin_hit(),
+            wo_default(),
+            Reference::Zero,
+        )
+        .selection(LightSelection::Power);
+    }
+    let c = Vec3::new(1.5, 2.5, -1.0);
+    s.sphere_light(c, 0.8, 3.0);
+    let hit = origin_hit();
+    let exact = lambert_out(sphere_e(&hit, c, 0.8, 3.0));
+    Case::new(
+        "two lights of zero radiance + a sphere light",
+        s.scene,
+        hit,
+        wo_default(),
+        Reference::Exact(exact),
+    )
+}
+
+#[test]
+fn point_and_mixed_lights() {
+    run_group(
+        4,
+        vec![
+            point_only(),
+            point_and_sphere(),
+            mixed_powers(LightSelection::Uniform),
+            mixed_powers(LightSelection::Power),
+            zero_radiance(false),
+            zero_radiance(true),
+        ],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. Occlusion and shadow-ray self-intersection
+
+/// A Lambertian sphere lit by a sphere light, shaded where a camera ray hits it.
+fn lit_sphere() -> Case {
+    let mut s = Setup::new();
+    s.add(Shape::sphere(Vec3::ZERO, 1.0).unwrap(), lambertian());
+    let c = Vec3::new(1.0, 3.0, 1.0);
+    s.sphere_light(c, 0.5, 4.0);
+    let target = Vec3::new(0.3, 1.0, 0.2).normalize();
+    let (hit, wo) = view(&s.scene, target + Vec3::new(0.2, 0.5, 2.0), target, 0);
+    let exact = lambert_out(sphere_e(&hit, c, 0.5, 4.0));
+    Case::new("lit Lambertian sphere at a camera-ray hit", s.scene, hit, wo, Reference::Exact(exact))
+}
+
+/// A tilted Lambertian quad lit by a quad light, shaded where a camera ray hits it.
+fn lit_quad() -> Case {
+    let mut s = Setup::new();
+    let (p0, e1, e2) = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(0.0, 0.2, 2.0), Vec3::new(2.0, 0.3, 0.0));
+    s.add(Shape::quad(quad_corners(p0, e1, e2)).unwrap(), lambertian());
+    let corners =
+        quad_corners(Vec3::new(-0.3, 2.0, -0.2), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0));
+    s.quad_light(corners, 3.0);
+    let target = p0 + e1 * 0.37 + e2 * 0.61;
+    let (hit, wo) = view(&s.scene, target + Vec3::new(-1.5, 2.0, 1.2), target, 0);
+    let (x, n) = (d3(hit.point.p), d3(hit.point.n));
+    assert!(
+        corners.iter().all(|&v| n.dot(d3(v) - x) > 0.0),
+        "the light must be above the receiver's horizon"
+    );
+    let exact = lambert_out(lambert_polygon_irradiance(x, n, &corners.map(d3), 3.0));
+    Case::new(
+        "lit Lambertian quad (quad light) at a camera-ray hit",
+        s.scene,
+        hit,
+        wo,
+        Reference::Exact(exact),
+    )
+}
+
+fn sphere_behind_quad() -> Case {
+    let mut s = Setup::floor(lambertian());
+    s.sphere_light(Vec3::new(0.0, 3.0, 0.0), 0.5, 10.0);
+    s.add(Shape::quad(floor_corners(2.0).map(|v| v + Vec3::Y * 1.5)).unwrap(), lambertian());
+    Case::new("sphere light behind a quad occluder", s.scene, origin_hit(), wo_default(), Reference::Zero)
+}
+
+fn quad_behind_sphere() -> Case {
+    let mut s = Setup::floor(lambertian());
+    let corners =
+        quad_corners(Vec3::new(-0.5, 3.0, -0.5), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0));
+    s.quad_light(corners, 10.0);
+    s.add(Shape::sphere(Vec3::new(0.0, 1.5, 0.0), 1.0).unwrap(), lambertian());
+    Case::new("quad light behind a sphere occluder", s.scene, origin_hit(), wo_default(), Reference::Zero)
+}
+
+fn wall_touching_floor() -> Case {
+    let mut s = Setup::floor(lambertian());
+    // A wall in the plane x = 0 standing on the floor (its lower edge at y = 0 exactly), the
+    // light behind it, the shading point 1e-5 in front of it.
+    let wall = quad_corners(Vec3::new(0.0, 0.0, -5.0), Vec3::new(0.0, 5.0, 0.0), Vec3::new(0.0, 0.0, 10.0));
+    s.add(Shape::quad(wall).unwrap(), lambertian());
+    s.sphere_light(Vec3::new(2.0, 1.0, 0.0), 0.5, 10.0);
+    let hit = shading_hit(0, Vec3::new(-1e-5, 0.0, 0.0), Vec3::Y);
+    Case::new(
+        "light behind a wall touching the floor, 1e-5 from it",
+        s.scene,
+        hit,
+        Vec3::new(-1.0, 1.0, 0.2),
+        Reference::Zero,
+    )
+}
+
+/// A shading point on a sphere facing a second sphere `gap` away, the light behind the second.
+fn sphere_next_to_sphere(gap: f32) -> Case {
+    let mut s = Setup::new();
+    s.add(Shape::sphere(Vec3::ZERO, 1.0).unwrap(), lambertian());
+    s.add(Shape::sphere(Vec3::new(2.0 + gap, 0.0, 0.0), 1.0).unwrap(), lambertian());
+    s.sphere_light(Vec3::new(6.0, 0.0, 0.0), 0.5, 10.0);
+    let hit = shading_hit(0, Vec3::X, Vec3::X);
+    let label = if gap > 0.0 {
+        format!("sphere next to a sphere (gap {gap:.0e}), light behind")
+    } else {
+        "touching spheres, shading at the contact, light behind".to_string()
+    };
+    Case::new(label, s.scene, hit, Vec3::new(1.0, 1.0, 0.0), Reference::Zero)
+}
+
+#[test]
+fn occlusion_and_self_intersection() {
+    run_group(
+        5,
+        vec![
+            lit_sphere(),
+            lit_quad(),
+            sphere_behind_quad(),
+            quad_behind_sphere(),
+            wall_touching_floor(),
+            sphere_next_to_sphere(1e-3),
+            sphere_next_to_sphere(0.0),
+        ],
+    );
+}
