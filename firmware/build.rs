@@ -39,10 +39,10 @@ fn var(name: &str) -> Option<String> {
     env::var(name).ok().filter(|v| !v.trim().is_empty())
 }
 
-fn number(name: &str, default: Option<u32>) -> Result<Option<u32>, BoxError> {
+fn number(name: &str) -> Result<Option<u32>, BoxError> {
     match var(name) {
         Some(v) => Ok(Some(v.trim().parse().map_err(|e| format!("{name}={v:?}: {e}"))?)),
-        None => Ok(default),
+        None => Ok(None),
     }
 }
 
@@ -92,21 +92,21 @@ fn run() -> Result<(), BoxError> {
 
     // Scene.
     let scene_arg = var("PICOMIS_SCENE").unwrap_or_else(|| "scenes/veach_mis.json".into());
-    let scene_path = resolve(&root, &scene_arg);
+    let scene_path = resolve(&root, &manifest, &scene_arg);
     println!("cargo:rerun-if-changed={}", scene_path.display());
     let scene = picomis_format::SceneFile::load(&scene_path).map_err(|e| e.to_string())?;
     fs::write(out.join("scene.rs"), scene.to_rust())?;
 
     // Render configuration.
-    let width = number("PICOMIS_WIDTH", Some(board.width))?.unwrap_or(board.width);
-    let height = number("PICOMIS_HEIGHT", Some(board.height))?.unwrap_or(board.height);
+    let width = number("PICOMIS_WIDTH")?.unwrap_or(board.width);
+    let height = number("PICOMIS_HEIGHT")?.unwrap_or(board.height);
     if !(1..=4096).contains(&width) || !(1..=4096).contains(&height) {
         return Err(format!("film {width}x{height}: each side must be 1..=4096").into());
     }
-    let spp = number("PICOMIS_SPP", None)?;
-    let seed = number("PICOMIS_SEED", None)?;
-    let tile = number("PICOMIS_TILE", Some(16))?.unwrap_or(16).max(1);
-    let repeat = number("PICOMIS_MEASURE_REPEAT", Some(3))?.unwrap_or(3).max(1);
+    let spp = number("PICOMIS_SPP")?;
+    let seed = number("PICOMIS_SEED")?;
+    let tile = number("PICOMIS_TILE")?.unwrap_or(16).max(1);
+    let repeat = number("PICOMIS_MEASURE_REPEAT")?.unwrap_or(3).max(1);
     let out_file = var("PICOMIS_OUT").unwrap_or_else(|| "picomis-fb.rgb565".into());
     if out_file.contains('\0') {
         return Err("PICOMIS_OUT contains a NUL byte".into());
@@ -146,7 +146,12 @@ fn run() -> Result<(), BoxError> {
     Ok(())
 }
 
-fn resolve(root: &Path, p: &str) -> PathBuf {
+/// A scene path: absolute, or relative to the workspace root, or else to firmware/.
+fn resolve(root: &Path, manifest: &Path, p: &str) -> PathBuf {
     let p = Path::new(p);
-    if p.is_absolute() { p.to_path_buf() } else { root.join(p) }
+    if p.is_absolute() || root.join(p).exists() || !manifest.join(p).exists() {
+        root.join(p)
+    } else {
+        manifest.join(p)
+    }
 }
