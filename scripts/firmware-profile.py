@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""Instruction profile of the firmware under QEMU (Debian's QEMU has no TCG plugins, so this
+reads QEMU's execution log instead).
+
+    cd firmware && PICOMIS_WIDTH=8 PICOMIS_HEIGHT=6 cargo build --release [--target thumbv6m-none-eabi]
+    qemu-system-arm -machine netduinoplus2 -nographic -monitor none -serial null \
+        -semihosting-config enable=on,target=native -icount shift=0 \
+        -d in_asm,exec,nochain -D qemu.log -kernel ELF
+    scripts/firmware-profile.py qemu.log ELF [TOP]
+
+Prints executed instructions per innermost (inlined) function, per outermost function and per
+source line (addr2line -i), then the call sites of out-of-line functions. Keep the film tiny:
+the log holds one line per executed translation block. Needs arm-none-eabi-addr2line and -nm.
+"""
+import collections
+import re
+import subprocess
+import sys
+
+INS = re.compile(r'^0x([0-9a-f]+):')
+TRACE = re.compile(r'^Trace \d+: \S+ \[[0-9a-f]+/([0-9a-f]+)/')
+
+
+def short(s):
+    for _ in range(3):
+        s = re.sub(r'<[^<>]*>', '', s)
+    return s[:90]
+
+
+def main():
+    log, elf = sys.argv[1], sys.argv[2]
+    top = int(sys.argv[3]) if len(sys.argv) > 3 else 30
+    syms = {}
+    nm = subprocess.run(['arm-none-eabi-nm', '-C', '--defined-only', elf], capture_output=True, text=True)
+    for line in nm.stdout.splitlines():
+        p = line.split(' ', 2)
+        if len(p) == 3 and p[1] in 'tT':
+            syms[int(p[0], 16) & ~1] = p[2]
+    tb, cur, prev_last = {}, None, None
+    counts, calls = collections.Counter(), collections.Counter()
+    with open(log, errors='replace') as f:
+        for line in f:
+            if line.startswith('IN:'):
+                cur = []
+                continue
+            m = INS.match(line)
+            if m and cur is not None:
+                cur.append(int(m.group(1), 16))
+                continue
+            if cur is not None and (line.strip() == '' or line.startswith('---')):
+                if cur:
+                    tb[cur[0]] = cur
+                cur = None
+            m = TRACE.match(line)
+            if m:
+                pc = int(m.group(1), 16)
+                block = tb.get(pc, [pc])
+                for a in block:
+                    counts[a] += 1
+                if pc in syms and prev_last is not None:
+                    calls[(syms[pc], prev_last)] += 1
+                prev_last = block[-1]
+    pcs = sorted(set(counts) | {a for (_, a) in calls})
+    out = subprocess.run(['arm-none-eabi-addr2line', '-a', '-f', '-i', '-C', '-e', elf] + [hex(p) for p in pcs],
+                         capture_output=True, text=True).stdout.splitlines()
+    chains, i = {}, 0
+    while i < len(out):
+        addr = int(out[i], 16)
+        i += 1
+        chain = []
+        while i < len(out) and not out[i].startswith('0x'):
+            chain.append((short(out[i]), out[i + 1].split('/')[-1]))
+            i += 2
+        chains[addr] = chain or [('?', '?')]
+    inner, outer, lines = collections.Counter(), collections.Counter(), collections.Counter()
+    for a, n in counts.items():
+        c = chains[a]
+        inner[c[0][0]] += n
+        outer[c[-1][0]] += n
+        lines[c[0][0] + ' @ ' + c[0][1]] += n
+    total = sum(counts.values())
+    print(f'total instructions {total}')
+    for title, c in (('innermost (inlined) function', inner), ('outermost function', outer), ('source line', lines)):
+        print(f'\n== {title}')
+        for k, v in c.most_common(top):
+            print(f'{v:12d} {100 * v / total:5.1f}%  {k}')
+    print('\n== calls into out-of-line functions: callee <- call site (innermost function, line)')
+    agg = collections.Counter()
+    for (s, a), n in calls.items():
+        f, loc = chains[a][0]
+        agg[(short(s)[:50], f[:60] + ' ' + loc)] += n
+    for (s, w), n in agg.most_common(top):
+        print(f'{n:10d}  {s:50s} <- {w}')
+
+
+if __name__ == '__main__':
+    main()
