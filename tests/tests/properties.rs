@@ -1,7 +1,8 @@
 //! Property tests of the kernel on random valid scenes (issue 6), with proptest on a fixed seed
 //! and ChaCha (the same cases on every run, no failure files).
 //!
-//! A random scene holds one to six spheres (radius 1e-4 to 5, some containing the camera or one
+//! A random scene holds a ground (a floor up to 2000 across or a sphere of radius up to 50 under
+//! everything) and up to five spheres (radius 1e-4 to 5, some containing the camera or one
 //! another) and quads (small, tilted, or floors up to 2000 across), each Lambertian or GGX
 //! (alpha 1e-4 to 1) or black, some emitting (radiance 0 or 1e-2 to 1e5), plus up to two point
 //! lights (intensity 0 or 1e-2 to 1e3) and a random camera. Settings are random too: every
@@ -13,20 +14,27 @@
 //!    technique contributions), every technique's weight sum is finite and between 0 and its
 //!    number of samples that found light, which is at most spp x its sample count, and a method
 //!    using one technique gives each of its samples weight exactly 1.
-//! 2. At random points on every shape, for random view directions, for the directions the
-//!    kernel itself draws (light samples, BSDF samples traced to an emitter) and for uniform
-//!    random directions: every pdf (`Material::pdf`/`eval_pdf`, `BsdfSample::pdf`,
-//!    `LightSample::pdf`, `Scene::light_pdf`) is finite and non-negative, sampled ones positive;
-//!    each technique's pdf is positive wherever the other one found light it can produce (a light
-//!    hit by a BSDF ray has a light pdf, a light sample with f > 0 has a BSDF pdf); the pdf of a
-//!    light sample re-evaluated by `Scene::light_pdf` at the point it found is the sample's pdf;
-//!    and the weights of every heuristic on these q = n p are in [0, 1], are 0 where q = 0 and
-//!    sum to 1 (within 1e-5) wherever some q > 0.
+//! 2. At random points on every shape, for random view directions (a quarter of them grazing,
+//!    cos down to 1e-6), for the directions the kernel itself draws (light samples, BSDF samples
+//!    traced to an emitter) and for uniform random directions: every pdf (`Material::pdf` and
+//!    `eval_pdf`, `BsdfSample::pdf`, `LightSample::pdf`, `Scene::light_pdf`) is finite and
+//!    non-negative, sampled ones positive; each technique's pdf is positive wherever the other
+//!    one found light it can produce (a light hit by a BSDF ray has a light pdf, a light sample
+//!    with f > 0 has a BSDF pdf); re-evaluated at the sample, a light sample's pdf is the
+//!    sample's own (exactly for the cone) and a BSDF sample's pdf and weight are eval_pdf's (to
+//!    the rounding of the direction, see [`check_bsdf_sample`]); the weights of every heuristic
+//!    on these q = n p are in [0, 1], 0 where q = 0 and sum to 1 (within 1e-5) wherever some
+//!    q > 0; and each sample's weighted contribution, computed as the estimator does, is finite
+//!    (so the estimator's own filter of non-finite contributions never has to act).
 //! 3. An image depends only on the seed: rendered row-major, in reverse, tile by tile in a
 //!    shuffled order, and on 2, 3 and 4 threads taking pixels or tiles as they come, every pixel
 //!    has the same bits (every field of its `Estimate`), and the tone-mapped framebuffers written
 //!    through `render` and through `render_tile` per shuffled tile on several threads are equal
 //!    byte for byte (and equal to `tone_map` of the pixel estimates).
+//!
+//! Each property also counts what its cases exercised (lit pixels, BSDF rays hitting lights,
+//! near-mirror GGX, pdfs re-evaluated, ...) and fails if a count falls below a floor: a change
+//! of the generators cannot make it pass vacuously.
 
 use embedded_graphics_core::Pixel;
 use embedded_graphics_core::draw_target::DrawTarget;
@@ -336,10 +344,13 @@ const HEURISTICS: [Heuristic; 6] = [
 ];
 
 /// Every heuristic's weights on `q`: in [0, 1], 0 where q is 0 (W2), summing to 1 where some
-/// q > 0 (W1).
-fn check_weights(q: [f32; 2], what: &str) -> Result<(), TestCaseError> {
+/// q > 0 (W1); and the weighted contribution w[technique] `unweighted` of the sample (as the
+/// estimator computes it) is finite and non-negative.
+fn check_weights(q: [f32; 2], technique: usize, unweighted: Rgb, what: &str) -> TestCaseResult {
     for h in HEURISTICS {
         let w = h.weights(q);
+        let c = unweighted * w[technique];
+        prop_assert!(finite_non_negative(c), "{what}: {h:?} {q:?} -> {w:?}, contribution {c}");
         prop_assert!(
             w.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)),
             "{what}: {h:?} {q:?} -> {w:?}"
@@ -406,11 +417,13 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
                 let (f, p_bsdf) = material.eval_pdf(wo, frame.to_local(ls.wi));
                 prop_assert!(finite_non_negative(f) && pdf_ok(p_bsdf), "{what}: f {f}, BSDF pdf {p_bsdf}");
                 prop_assert!(f == Rgb::ZERO || p_bsdf > 0.0, "{what}: f = {f} > 0 but the BSDF pdf is 0");
+                let unweighted = f * ls.radiance / ls.pdf;
+                prop_assert!(finite_non_negative(unweighted), "{what}: f L / p = {unweighted}");
                 if ls.delta {
                     prop_assert!(light_object.is_none(), "{what}: a delta light on a shape");
                 } else {
                     for (c_l, c_b) in counts {
-                        check_weights([c_l * ls.pdf, c_b * p_bsdf], &what)?;
+                        check_weights([c_l * ls.pdf, c_b * p_bsdf], 0, unweighted / c_l.max(1.0), &what)?;
                     }
                     let emitter = light_object.and_then(|i| scene.emitter(i).map(|(l, _)| (i, l)));
                     prop_assert!(emitter.is_some(), "{what}: an area-light sample without its emitter");
@@ -429,6 +442,7 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
             let what = format!("{at}: BSDF sample {bs:?}");
             prop_assert!(bs.pdf.is_finite() && bs.pdf > 0.0 && bs.wi.z > 0.0, "{what}");
             prop_assert!(finite_non_negative(bs.weight), "{what}: weight");
+            tally.add(check_bsdf_sample(&material, wo, &bs, &what)?);
             let ray = Ray { origin: p, dir: frame.to_world(bs.wi) };
             if let Some((hit, light, radiance)) = scene.emitter_hit(&ray, object) {
                 let p_light = scene.light_pdf(light, p, &hit.point, spheres, selection);
@@ -444,12 +458,54 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
                     }
                 }
                 for (c_l, c_b) in counts {
-                    check_weights([c_l * p_light, c_b * bs.pdf], &what)?;
+                    check_weights(
+                        [c_l * p_light, c_b * bs.pdf],
+                        1,
+                        bs.weight * radiance / c_b.max(1.0),
+                        &what,
+                    )?;
                 }
             }
         }
     }
     Ok(())
+}
+
+/// A BSDF sample's pdf and weight re-evaluated by `Material::eval_pdf` at the direction it
+/// drew: the pdf the light technique's weights use must be the one the sample was drawn with,
+/// and weight = f cos / pdf (for GGX R G1(wi): D cancels, so this holds to rounding).
+///
+/// The pdf can only agree to the rounding of the direction: eval_pdf recomputes the half vector
+/// from wo + wi, whose components carry ~2.4e-7 of rounding, so its direction is known to
+/// delta ~ 2.4e-7 / |wo + wi| rad (far worse than 1e-7 for grazing reflections, where wo + wi
+/// nearly cancels). With t = tan(theta_m) / alpha, D is proportional to 1 / (1 + t^2)^2; moving
+/// t by T = delta / alpha changes D by a factor of at most (1 + T + T^2)^2 (here with twice
+/// that delta, for safety).
+fn check_bsdf_sample(
+    material: &Material,
+    wo: Vec3,
+    bs: &picomis::BsdfSample,
+    what: &str,
+) -> Result<&'static str, TestCaseError> {
+    let (f, pdf) = material.eval_pdf(wo, bs.wi);
+    let alpha = match *material {
+        Material::GgxConductor { alpha, .. } => alpha,
+        Material::Lambertian { .. } => 1.0,
+    };
+    let t = 2.0 * 2.4e-7 / ((wo + bs.wi).length() * alpha);
+    let tol = (1.0 + t + t * t).powi(2) - 1.0 + 1e-4;
+    let rel = (pdf / bs.pdf - 1.0).abs();
+    prop_assert!(rel <= tol, "{what}: eval_pdf gives pdf {pdf} (rel {rel:e} > {tol:e})");
+    if f.min_element() > 1e-30 {
+        let weight = f / pdf;
+        let rel = ((weight - bs.weight).abs() / weight).max_element();
+        prop_assert!(rel <= 1e-4, "{what}: f / pdf = {weight} vs weight (rel {rel:e})");
+    }
+    Ok(match (alpha < 1e-2, tol < 1e-2) {
+        (_, false) => "BSDF sample re-evaluated, pdf rounding above 1%",
+        (true, true) => "BSDF sample re-evaluated, GGX alpha < 1e-2",
+        (false, true) => "BSDF sample re-evaluated",
+    })
 }
 
 /// The pdf of a light sample re-evaluated by `Scene::light_pdf` at the point it found equals the
@@ -509,6 +565,8 @@ fn pdfs_are_finite_and_weights_partition_unity() {
         ("light sample pdf re-evaluated (area)", 20_000),
         ("BSDF sample hitting a light", 6_000),
         ("BSDF sample hitting a light, GGX alpha < 1e-3", 600),
+        ("BSDF sample re-evaluated", 80_000),
+        ("BSDF sample re-evaluated, GGX alpha < 1e-2", 15_000),
     ]);
 }
 /// The point lights of a scene carry no pdf: `Scene::light_pdf` is 0 for them.
