@@ -66,11 +66,11 @@ build() {
   # shellcheck disable=SC2086
   if ! (cd "$FW" && CARGO_TARGET_DIR="$TD" PICOMIS_SCENE="$scene" PICOMIS_WIDTH="$w" PICOMIS_HEIGHT="$h" \
       PICOMIS_SPP="$spp" PICOMIS_SEED="$seed" PICOMIS_OUT="$name.rgb565" \
-      cargo build --release --quiet --target "$target" $feats) >"$WORK/$name.build.log" 2>&1; then
+      cargo build --profile firmware --quiet --target "$target" $feats) >"$WORK/$name.build.log" 2>&1; then
     cat "$WORK/$name.build.log" >&2
     return 1
   fi
-  cp "$TD/$target/release/picomis-firmware" "$WORK/$name.elf"
+  cp "$TD/$target/firmware/picomis-firmware" "$WORK/$name.elf"
 }
 
 # run NAME TARGET [extra qemu args]: runs $WORK/NAME.elf under QEMU in $WORK (output file and
@@ -197,7 +197,7 @@ report_size() { # NAME TARGET LABEL
 
 cmd_measure() {
   setup binutils
-  step "measure: builds (release: lto fat, codegen-units 1)"
+  step "measure: builds (profile firmware: lto fat, codegen-units 1)"
   build m4-size $M4 "" "$VEACH" 160 120 1 0 || die "build failed"
   build m4-size-board $M4 "--no-default-features --features rtt" "$VEACH" 160 120 1 0 || die "build failed"
   build m0-size $M0 "" "$VEACH" 64 48 1 0 || die "build failed"
@@ -250,7 +250,7 @@ cmd_lint() {
   for t in $M4 $M0; do
     for f in "" "--features rtt" "--no-default-features --features rtt" "--features measure"; do
       # shellcheck disable=SC2086
-      (cd "$FW" && CARGO_TARGET_DIR="$TD" cargo clippy --quiet --release --target $t $f -- -D warnings) || rc=1
+      (cd "$FW" && CARGO_TARGET_DIR="$TD" cargo clippy --quiet --profile firmware --target $t $f -- -D warnings) || rc=1
     done
   done
   return $rc

@@ -96,9 +96,12 @@ static mut SCENE: MaybeUninit<scene::SceneT> = MaybeUninit::uninit();
 /// builder's temporaries leave the stack before rendering starts.
 #[inline(never)]
 fn build_scene(film: Film) -> Result<&'static scene::SceneT, picomis::SceneError> {
-    let built = scene::build(film)?;
+    let empty = scene::SceneT::new(scene::camera(), film)?;
     // SAFETY: called once, before any reference to SCENE exists.
-    Ok(unsafe { (*ptr::addr_of_mut!(SCENE)).write(built) })
+    let scene = unsafe { (*ptr::addr_of_mut!(SCENE)).write(empty) };
+    // Fill it in place: the scene is never copied whole on the stack again.
+    scene::populate(scene)?;
+    Ok(scene)
 }
 
 fn run() -> u32 {

@@ -55,22 +55,30 @@ pub(crate) fn module(s: &SceneFile) -> String {
     let _ = writeln!(o, "/// Film height of the file.\npub const HEIGHT: u32 = {};", s.film.height());
     let _ = writeln!(o, "/// The scene type, sized by the scene.");
     let _ = writeln!(o, "pub type SceneT = picomis::Scene<SHAPES, LIGHTS, MATERIALS>;");
-    let _ = writeln!(o, "/// Builds the scene for `film`.");
-    let _ = writeln!(o, "pub fn build(film: picomis::Film) -> Result<SceneT, picomis::SceneError> {{");
+    let _ = writeln!(o, "/// The camera of the file.");
+    let _ = writeln!(o, "pub fn camera() -> CameraDesc {{");
     let axis = match cam.fov_axis {
         FovAxis::X => "FovAxis::X",
         FovAxis::Y => "FovAxis::Y",
     };
     let _ = writeln!(
         o,
-        "    let camera = CameraDesc {{ origin: {}, target: {}, up: {}, fov_deg: {}, fov_axis: {axis}, near_clip: {} }};",
+        "    CameraDesc {{ origin: {}, target: {}, up: {}, fov_deg: {}, fov_axis: {axis}, near_clip: {} }}",
         v3(cam.origin),
         v3(cam.target),
         v3(cam.up),
         f(cam.fov_deg),
         f(cam.near_clip)
     );
-    let _ = writeln!(o, "    let mut scene = SceneT::new(camera, film)?;");
+    let _ = writeln!(o, "}}");
+    let _ = writeln!(o, "/// Builds the scene for `film`.");
+    let _ = writeln!(o, "pub fn build(film: picomis::Film) -> Result<SceneT, picomis::SceneError> {{");
+    let _ = writeln!(o, "    let mut scene = SceneT::new(camera(), film)?;");
+    let _ = writeln!(o, "    populate(&mut scene)?;");
+    let _ = writeln!(o, "    Ok(scene)\n}}");
+    let _ = writeln!(o, "/// Adds the materials, shapes and lights of the file to an empty scene (in place: a");
+    let _ = writeln!(o, "/// firmware can fill a scene that lives in a `static` without a copy on the stack).");
+    let _ = writeln!(o, "pub fn populate(scene: &mut SceneT) -> Result<(), picomis::SceneError> {{");
     let mut materials = 0;
     for step in &s.steps {
         match step {
@@ -106,7 +114,7 @@ pub(crate) fn module(s: &SceneFile) -> String {
             }
         }
     }
-    let _ = writeln!(o, "    Ok(scene)\n}}");
+    let _ = writeln!(o, "    Ok(())\n}}");
     let _ = writeln!(o, "/// The integrator defaults of the file (1 spp, seed 0).");
     let _ = writeln!(o, "pub fn settings() -> Result<picomis::RenderSettings, picomis::SceneError> {{");
     let _ = writeln!(

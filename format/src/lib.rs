@@ -199,8 +199,8 @@ impl SceneFile {
     }
 
     /// Rust source of a module that builds this scene with its own capacities (see the crate
-    /// docs): `SHAPES`, `LIGHTS`, `MATERIALS`, `NAME`, `WIDTH`, `HEIGHT`, `SceneT`,
-    /// `build(film)` and `settings()`.
+    /// docs): `SHAPES`, `LIGHTS`, `MATERIALS`, `NAME`, `WIDTH`, `HEIGHT`, `SceneT`, `camera()`,
+    /// `populate(&mut SceneT)` (fills an empty scene in place), `build(film)` and `settings()`.
     pub fn to_rust(&self) -> String {
         codegen::module(self)
     }

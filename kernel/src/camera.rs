@@ -2,7 +2,7 @@
 //! a vertical or horizontal field of view, and a near clip plane.
 
 use crate::error::{Field, SceneError};
-use crate::math::{PI, Vec2, Vec3, finite3, tan};
+use crate::math::{Vec2, Vec3, finite3, normalize_or, sin_cos_turns, try_normalize};
 use crate::shape::Ray;
 
 /// Which film axis the field of view spans.
@@ -110,15 +110,16 @@ impl Camera {
         if desc.near_clip < 0.0 {
             return Err(SceneError::OutOfRange(Field::NearClip));
         }
-        let forward = (desc.target - desc.origin)
-            .try_normalize()
-            .ok_or(SceneError::ZeroDirection(Field::CameraTarget))?;
-        if desc.up.try_normalize().is_none() {
+        let forward =
+            try_normalize(desc.target - desc.origin).ok_or(SceneError::ZeroDirection(Field::CameraTarget))?;
+        if try_normalize(desc.up).is_none() {
             return Err(SceneError::ZeroDirection(Field::CameraUp));
         }
-        let right = forward.cross(desc.up).try_normalize().ok_or(SceneError::UpParallelToView)?;
+        let right = try_normalize(forward.cross(desc.up)).ok_or(SceneError::UpParallelToView)?;
         let up = right.cross(forward);
-        let t = tan(desc.fov_deg * (PI / 360.0));
+        // tan(fov / 2), with fov / 2 in turns: fov_deg / 720.
+        let (sin, cos) = sin_cos_turns(desc.fov_deg / 720.0);
+        let t = sin / cos;
         let aspect = film.width() as f32 / film.height() as f32;
         let (tan_x, tan_y) = match desc.fov_axis {
             FovAxis::Y => (t * aspect, t),
@@ -140,7 +141,7 @@ impl Camera {
         let d = self.forward
             + self.right * ((2.0 * film.x - 1.0) * self.tan_x)
             + self.up * ((1.0 - 2.0 * film.y) * self.tan_y);
-        let dir = d.normalize();
+        let dir = normalize_or(d, self.forward);
         // The clip plane is perpendicular to `forward`.
         let t_near = self.near_clip / dir.dot(self.forward);
         (Ray { origin: self.origin, dir }, t_near)

@@ -2,7 +2,7 @@
 //! point lights. `Light::sample_li` and `Light::pdf_li` are the pair the MIS weights rely on:
 //! the pdf of a direction is evaluated by the same routine that the sampler's pdf comes from.
 
-use crate::math::{Frame, PI, Rgb, Vec2, Vec3, luminance, safe_sqrt};
+use crate::math::{Frame, PI, Rgb, Vec2, Vec3, luminance, max0, safe_sqrt, sqrt};
 use crate::sampling::{cone_one_minus_cos, sample_uniform_cone, uniform_cone_pdf};
 use crate::shape::{Shape, SurfacePoint};
 
@@ -67,10 +67,8 @@ impl Light {
     /// Emitted power (luminance) used for light selection by power.
     pub fn power(&self, shape: Option<&Shape>) -> f32 {
         match *self {
-            Light::Area { radiance, .. } => {
-                shape.map_or(0.0, |s| PI * luminance(radiance).max(0.0) * s.area())
-            }
-            Light::Point { intensity, .. } => 4.0 * PI * luminance(intensity).max(0.0),
+            Light::Area { radiance, .. } => shape.map_or(0.0, |s| PI * max0(luminance(radiance)) * s.area()),
+            Light::Point { intensity, .. } => 4.0 * PI * max0(luminance(intensity)),
         }
     }
 
@@ -92,7 +90,7 @@ impl Light {
                 if !(d2 > 0.0) {
                     return None;
                 }
-                let distance = libm::sqrtf(d2);
+                let distance = sqrt(d2);
                 Some(LightSample {
                     wi: v / distance,
                     distance,
@@ -112,7 +110,7 @@ impl Light {
                 let y = shape.sample_area(u);
                 let pdf = area_to_solid_angle(shape.area_pdf(), x, &y)?;
                 let v = y.p - x;
-                let distance = v.length();
+                let distance = sqrt(v.length_squared());
                 Some(LightSample { wi: v / distance, distance, radiance, pdf, delta: false })
             }
         }
@@ -146,7 +144,7 @@ fn area_to_solid_angle(pdf_area: f32, x: Vec3, y: &SurfacePoint) -> Option<f32> 
     if !(cos_y > 0.0) || !(d2 > 0.0) {
         return None;
     }
-    let pdf = pdf_area * d2 * libm::sqrtf(d2) / cos_y;
+    let pdf = pdf_area * d2 * sqrt(d2) / cos_y;
     pdf.is_finite().then_some(pdf)
 }
 
@@ -164,13 +162,13 @@ fn sample_sphere_cone(center: Vec3, radius: f32, x: Vec3, u: Vec2) -> Option<Lig
     let omc = sphere_cone(center, radius, x)?;
     let to_c = center - x;
     let d2 = to_c.length_squared();
-    let d = libm::sqrtf(d2);
+    let d = sqrt(d2);
     let frame = Frame::from_normal(to_c / d);
     let local = sample_uniform_cone(u, omc);
     let wi = frame.to_world(local);
     // Distance to the near intersection: d cos(theta) - sqrt(r^2 - d^2 sin^2(theta)).
     let sin2 = local.x * local.x + local.y * local.y;
-    let distance = (d * local.z - safe_sqrt(radius * radius - d2 * sin2)).max(0.0);
+    let distance = max0(d * local.z - safe_sqrt(radius * radius - d2 * sin2));
     let pdf = uniform_cone_pdf(omc);
     (pdf > 0.0 && pdf.is_finite()).then_some(LightSample {
         wi,

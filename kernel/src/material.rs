@@ -3,7 +3,7 @@
 //! (`z` = normal), `wo` towards the viewer, `wi` towards the light.
 
 use crate::error::{Field, SceneError};
-use crate::math::{INV_PI, Rgb, Vec2, Vec3, finite3};
+use crate::math::{INV_PI, Rgb, Vec2, Vec3, finite3, try_normalize};
 use crate::sampling::{cosine_hemisphere_pdf, ggx_d, ggx_g1, sample_cosine_hemisphere, sample_ggx_vndf};
 
 /// The closed set of materials.
@@ -93,7 +93,7 @@ impl Material {
         match *self {
             Material::Lambertian { albedo } => (albedo * (INV_PI * wi.z), cosine_hemisphere_pdf(wi.z)),
             Material::GgxConductor { alpha, reflectance } => {
-                let Some(m) = (wo + wi).try_normalize() else {
+                let Some(m) = try_normalize(wo + wi) else {
                     return (Rgb::ZERO, 0.0);
                 };
                 // Both directions are above the horizon, so wo.m = wi.m > 0 and m.z > 0.

@@ -2,7 +2,9 @@
 //! `u`; directions are in a local frame whose `z` axis is the normal (or the cone axis).
 //! Pdfs are per unit solid angle for directions and per unit area for points.
 
-use crate::math::{INV_PI, PI, Vec2, Vec3, safe_sqrt, sin_cos};
+use crate::math::{
+    INV_PI, PI, Vec2, Vec3, max0, normalize_or, safe_sqrt, sin_cos_quarter, sin_cos_turns, sqrt,
+};
 
 /// Concentric map of the unit square to the unit disk (Shirley and Chiu 1997).
 #[inline]
@@ -11,12 +13,15 @@ pub fn sample_concentric_disk(u: Vec2) -> Vec2 {
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, (PI / 4.0) * (o.y / o.x))
+    // theta = pi/4 (y/x) in the left and right wedges, pi/2 - pi/4 (x/y) in the others:
+    // only sines and cosines of |angle| <= pi/4 are needed.
+    let (r, s, c) = if o.x.abs() > o.y.abs() {
+        let (s, c) = sin_cos_quarter((PI / 4.0) * (o.y / o.x));
+        (o.x, s, c)
     } else {
-        (o.y, PI / 2.0 - (PI / 4.0) * (o.x / o.y))
+        let (s, c) = sin_cos_quarter((PI / 4.0) * (o.x / o.y));
+        (o.y, c, s)
     };
-    let (s, c) = sin_cos(theta);
     Vec2::new(c, s) * r
 }
 
@@ -38,7 +43,7 @@ pub fn cosine_hemisphere_pdf(cos_theta: f32) -> f32 {
 pub fn sample_uniform_sphere(u: Vec2) -> Vec3 {
     let z = 1.0 - 2.0 * u.x;
     let r = safe_sqrt(1.0 - z * z);
-    let (s, c) = sin_cos(2.0 * PI * u.y);
+    let (s, c) = sin_cos_turns(u.y);
     Vec3::new(r * c, r * s, z)
 }
 
@@ -53,7 +58,7 @@ pub fn uniform_sphere_pdf() -> f32 {
 /// `1 - sqrt(1 - sin^2)` rounds to zero. Sampling and pdf both call this one routine.
 #[inline]
 pub fn cone_one_minus_cos(sin2_theta_max: f32) -> f32 {
-    let sin2 = sin2_theta_max.clamp(0.0, 1.0);
+    let sin2 = if sin2_theta_max < 1.0 { max0(sin2_theta_max) } else { 1.0 };
     sin2 / (1.0 + safe_sqrt(1.0 - sin2))
 }
 
@@ -64,7 +69,7 @@ pub fn sample_uniform_cone(u: Vec2, one_minus_cos_max: f32) -> Vec3 {
     let one_minus_cos = u.x * one_minus_cos_max;
     let cos_theta = 1.0 - one_minus_cos;
     let sin_theta = safe_sqrt(one_minus_cos * (2.0 - one_minus_cos));
-    let (s, c) = sin_cos(2.0 * PI * u.y);
+    let (s, c) = sin_cos_turns(u.y);
     Vec3::new(sin_theta * c, sin_theta * s, cos_theta)
 }
 
@@ -114,19 +119,19 @@ pub fn ggx_g1(v: Vec3, alpha: f32) -> f32 {
 #[inline]
 pub fn sample_ggx_vndf(wo: Vec3, alpha: f32, u: Vec2) -> Vec3 {
     // Stretch the view direction to the hemisphere configuration.
-    let vh = Vec3::new(alpha * wo.x, alpha * wo.y, wo.z).normalize_or(Vec3::Z);
+    let vh = normalize_or(Vec3::new(alpha * wo.x, alpha * wo.y, wo.z), Vec3::Z);
     let lensq = vh.x * vh.x + vh.y * vh.y;
-    let t1 = if lensq > 0.0 { Vec3::new(-vh.y, vh.x, 0.0) / libm::sqrtf(lensq) } else { Vec3::X };
+    let t1 = if lensq > 0.0 { Vec3::new(-vh.y, vh.x, 0.0) * (1.0 / sqrt(lensq)) } else { Vec3::X };
     let t2 = vh.cross(t1);
     // Uniform point on the disk, warped to the visible half.
-    let r = libm::sqrtf(u.x);
-    let (s, c) = sin_cos(2.0 * PI * u.y);
+    let r = sqrt(u.x);
+    let (s, c) = sin_cos_turns(u.y);
     let p1 = r * c;
     let s_mix = 0.5 * (1.0 + vh.z);
     let p2 = (1.0 - s_mix) * safe_sqrt(1.0 - p1 * p1) + s_mix * (r * s);
     let nh = t1 * p1 + t2 * p2 + vh * safe_sqrt(1.0 - p1 * p1 - p2 * p2);
     // Unstretch.
-    Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize_or(Vec3::Z)
+    normalize_or(Vec3::new(alpha * nh.x, alpha * nh.y, max0(nh.z)), Vec3::Z)
 }
 
 /// Pdf of [`sample_ggx_vndf`] per unit solid angle of microfacet normals:
@@ -136,7 +141,7 @@ pub fn ggx_vndf_pdf(wo: Vec3, m: Vec3, alpha: f32) -> f32 {
     if wo.z <= 0.0 {
         return 0.0;
     }
-    ggx_g1(wo, alpha) * wo.dot(m).max(0.0) * ggx_d(m, alpha) / wo.z
+    ggx_g1(wo, alpha) * max0(wo.dot(m)) * ggx_d(m, alpha) / wo.z
 }
 
 /// Picks index `i` with probability `weights[i] / total` by a linear scan (small light lists).

@@ -3,7 +3,7 @@
 //! that surface again: the estimator skips the shape of origin instead of nudging ray origins.
 
 use crate::error::{Field, SceneError};
-use crate::math::{PI, Vec2, Vec3, finite3};
+use crate::math::{PI, Vec2, Vec3, finite3, sqrt};
 use crate::sampling::{parallelogram_pdf, sample_parallelogram, sample_uniform_sphere};
 
 /// A ray with a unit direction.
@@ -142,7 +142,7 @@ impl Shape {
                     return None;
                 }
                 let c = f.length_squared() - r2;
-                let q = -b - libm::sqrtf(disc).copysign(b);
+                let q = -b - sqrt(disc).copysign(b);
                 let (t0, t1) = if q != 0.0 { (c / q, q) } else { (0.0, 0.0) };
                 let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
                 if near > t_min && near < t_max {
