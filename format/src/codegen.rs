@@ -76,8 +76,10 @@ pub(crate) fn module(s: &SceneFile) -> String {
     let _ = writeln!(o, "    let mut scene = SceneT::new(camera(), film)?;");
     let _ = writeln!(o, "    populate(&mut scene)?;");
     let _ = writeln!(o, "    Ok(scene)\n}}");
-    let _ = writeln!(o, "/// Adds the materials, shapes and lights of the file to an empty scene (in place: a");
-    let _ = writeln!(o, "/// firmware can fill a scene that lives in a `static` without a copy on the stack).");
+    let _ =
+        writeln!(o, "/// Adds the materials, shapes and lights of the file to an empty scene (in place: a");
+    let _ =
+        writeln!(o, "/// firmware can fill a scene that lives in a `static` without a copy on the stack).");
     let _ = writeln!(o, "pub fn populate(scene: &mut SceneT) -> Result<(), picomis::SceneError> {{");
     let mut materials = 0;
     for step in &s.steps {
