@@ -145,6 +145,19 @@ impl Stats {
     pub fn stderr(&self) -> f64 {
         (self.variance() / self.n as f64).sqrt()
     }
+
+    /// Adds all samples of `other` (Chan et al.'s pairwise update).
+    pub fn merge(&mut self, other: &Stats) {
+        let n = self.n + other.n;
+        if n == 0 {
+            return;
+        }
+        let d = other.mean - self.mean;
+        let (na, nb) = (self.n as f64, other.n as f64);
+        self.mean += d * nb / n as f64;
+        self.m2 += other.m2 + d * d * na * nb / n as f64;
+        self.n = n;
+    }
 }
 
 /// Statistics of the three colour channels of a stream of RGB samples.
@@ -156,6 +169,13 @@ impl RgbStats {
     pub fn push(&mut self, c: Rgb) {
         for (s, v) in self.0.iter_mut().zip([c.x, c.y, c.z]) {
             s.push(f64::from(v));
+        }
+    }
+
+    /// Adds all samples of `other`.
+    pub fn merge(&mut self, other: &RgbStats) {
+        for (s, o) in self.0.iter_mut().zip(&other.0) {
+            s.merge(o);
         }
     }
 }
@@ -739,6 +759,18 @@ pub struct DirectStats {
     pub bsdf_found: u64,
 }
 
+impl DirectStats {
+    /// Adds the estimates of `other` (for instance those taken at another shading point).
+    pub fn merge(&mut self, other: &DirectStats) {
+        self.total.merge(&other.total);
+        self.light.merge(&other.light);
+        self.bsdf.merge(&other.bsdf);
+        self.non_finite += other.non_finite;
+        self.light_found += other.light_found;
+        self.bsdf_found += other.bsdf_found;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -890,6 +922,21 @@ mod tests {
             s.push(1.0 + 0.01 * f64::from(i % 2));
         }
         assert_unbiased("biased", &s, 1.1, 0.02);
+    }
+
+    #[test]
+    fn merged_stats_equal_one_pass() {
+        let xs: Vec<f64> = (0..50).map(|i| f64::from(i * i % 17) - 3.5).collect();
+        let (mut all, mut a, mut b) = (Stats::new(), Stats::new(), Stats::new());
+        for (i, &x) in xs.iter().enumerate() {
+            all.push(x);
+            if i < 20 { a.push(x) } else { b.push(x) }
+        }
+        a.merge(&b);
+        assert_eq!(a.n(), all.n());
+        assert!((a.mean() - all.mean()).abs() < 1e-12 && (a.variance() - all.variance()).abs() < 1e-12);
+        a.merge(&Stats::new());
+        assert!((a.variance() - all.variance()).abs() < 1e-12);
     }
 
     #[test]

@@ -32,7 +32,7 @@ use picomis::{
     Shape, SphereSampling, Technique, Vec3,
 };
 use picomis_tests::{
-    DVec3, Stats, camera, check_unbiased, check_z, d3, direct_stats, floor_corners,
+    DVec3, DirectStats, Stats, camera, check_unbiased, check_z, d3, direct_stats, floor_corners,
     lambert_polygon_irradiance, quad_corners, shading_hit, sphere_irradiance_at,
 };
 use std::f64::consts::PI;
@@ -146,8 +146,9 @@ enum Check {
 struct Case {
     label: String,
     scene: S,
-    hit: Hit,
-    wo: Vec3,
+    /// Shading points with their view directions; the estimates are split evenly among them
+    /// (the reference is then the mean of the points' values).
+    points: Vec<(Hit, Vec3)>,
     n: u32,
     selection: LightSelection,
     reference: Reference,
@@ -159,11 +160,14 @@ struct Case {
 
 impl Case {
     fn new(label: impl Into<String>, scene: S, hit: Hit, wo: Vec3, reference: Reference) -> Self {
+        Case::at_points(label, scene, vec![(hit, wo.normalize())], reference)
+    }
+
+    fn at_points(label: impl Into<String>, scene: S, points: Vec<(Hit, Vec3)>, reference: Reference) -> Self {
         Case {
             label: label.into(),
             scene,
-            hit,
-            wo: wo.normalize(),
+            points,
             n: N,
             selection: LightSelection::Uniform,
             reference,
@@ -288,7 +292,12 @@ struct Run {
 }
 
 fn run(case: &Case, settings: &RenderSettings, stream: u32, n: u32) -> Run {
-    let st = direct_stats(&case.scene, settings, &case.hit, case.wo, stream, n);
+    let k = case.points.len() as u32;
+    let mut st = DirectStats::default();
+    for (j, (hit, wo)) in case.points.iter().enumerate() {
+        let stream = stream * 64 + j as u32;
+        st.merge(&direct_stats(&case.scene, settings, hit, *wo, stream, n / k));
+    }
     let all_finite = [&st.total, &st.light, &st.bsdf]
         .iter()
         .flat_map(|s| s.0.iter())
@@ -849,13 +858,18 @@ fn lit_sphere() -> Case {
     s.add(Shape::sphere(Vec3::ZERO, 1.0).unwrap(), lambertian());
     let c = Vec3::new(1.0, 3.0, 1.0);
     s.sphere_light(c, 0.5, 4.0);
-    let target = Vec3::new(0.3, 1.0, 0.2).normalize();
-    let (hit, wo) = view(&s.scene, target + Vec3::new(0.2, 0.5, 2.0), target, 0);
-    let exact = lambert_out(sphere_e(&hit, c, 0.5, 4.0));
-    Case::new("lit Lambertian sphere at a camera-ray hit", s.scene, hit, wo, Reference::Exact(exact))
+    // 16 points on the upper cap (up to 31 degrees from the top), each found by a camera ray.
+    let targets = (0..16).map(|j| {
+        let (phi, s) = (j as f32 * std::f32::consts::FRAC_PI_8, if j % 2 == 0 { 0.3 } else { 0.6 });
+        Vec3::new(s * phi.cos(), 1.0, s * phi.sin()).normalize()
+    });
+    let points: Vec<(Hit, Vec3)> =
+        targets.map(|t| view(&s.scene, t + (t + Vec3::new(-0.3, 0.2, -0.3)) * 2.0, t, 0)).collect();
+    let exact = points.iter().map(|(hit, _)| lambert_out(sphere_e(hit, c, 0.5, 4.0))).sum::<f64>() / 16.0;
+    Case::at_points("lit Lambertian sphere at 16 camera-ray hits", s.scene, points, Reference::Exact(exact))
 }
 
-/// A tilted Lambertian quad lit by a quad light, shaded where a camera ray hits it.
+/// A tilted Lambertian quad lit by a quad light, shaded where camera rays hit it.
 fn lit_quad() -> Case {
     let mut s = Setup::new();
     let (p0, e1, e2) = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(0.0, 0.2, 2.0), Vec3::new(2.0, 0.3, 0.0));
@@ -863,19 +877,24 @@ fn lit_quad() -> Case {
     let corners =
         quad_corners(Vec3::new(-0.3, 2.0, -0.2), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0));
     s.quad_light(corners, 3.0);
-    let target = p0 + e1 * 0.37 + e2 * 0.61;
-    let (hit, wo) = view(&s.scene, target + Vec3::new(-1.5, 2.0, 1.2), target, 0);
-    let (x, n) = (d3(hit.point.p), d3(hit.point.n));
-    assert!(
-        corners.iter().all(|&v| n.dot(d3(v) - x) > 0.0),
-        "the light must be above the receiver's horizon"
-    );
-    let exact = lambert_out(lambert_polygon_irradiance(x, n, &corners.map(d3), 3.0));
-    Case::new(
-        "lit Lambertian quad (quad light) at a camera-ray hit",
+    // A 4 x 4 grid of points, each found by a camera ray.
+    let grid = [0.15, 0.38, 0.62, 0.85];
+    let targets = grid.iter().flat_map(|&a| grid.iter().map(move |&b| p0 + e1 * a + e2 * b));
+    let points: Vec<(Hit, Vec3)> =
+        targets.map(|t| view(&s.scene, t + Vec3::new(-3.0, 1.0, 0.5), t, 0)).collect();
+    let exact = points
+        .iter()
+        .map(|(hit, _)| {
+            let (x, n) = (d3(hit.point.p), d3(hit.point.n));
+            assert!(corners.iter().all(|&v| n.dot(d3(v) - x) > 0.0), "the light must be above the horizon");
+            lambert_out(lambert_polygon_irradiance(x, n, &corners.map(d3), 3.0))
+        })
+        .sum::<f64>()
+        / 16.0;
+    Case::at_points(
+        "lit Lambertian quad (quad light) at 16 camera-ray hits",
         s.scene,
-        hit,
-        wo,
+        points,
         Reference::Exact(exact),
     )
 }
