@@ -24,8 +24,9 @@
 //! The variances form a markdown table, printed with `--nocapture` and written to the file
 //! named by the environment variable `PICOMIS_STABILITY_TABLE` (each test rewrites the file
 //! with every row finished so far, so it is complete once the whole file has run):
-//! `PICOMIS_STABILITY_TABLE=stability.md cargo test --release -p picomis-tests --test stability
-//! -- --nocapture`. docs/stability.md holds one such table with a lesson per case.
+//! `PICOMIS_STABILITY_TABLE=/tmp/stability.md cargo test --release -p picomis-tests --test
+//! stability -- --nocapture` (a relative path is relative to `tests/`, where cargo runs the
+//! suite). docs/stability.md holds one such table with a lesson per case.
 
 use picomis::{
     Film, Heuristic, Hit, LightSelection, Material, MaterialId, Method, Ray, RenderSettings, Rgb, Scene,
