@@ -35,7 +35,7 @@ use crate::scenes::{self, BUILTINS, Loaded, SceneVisitor};
 
 use metrics::ErrorStats;
 use reference::Reference;
-use regions::RegionMap;
+use regions::{RegionMap, RegionStudy};
 
 /// `picomis-sim study`.
 #[derive(Debug, Clone, clap::Args)]
@@ -130,8 +130,6 @@ pub struct Record {
     pub error: ErrorStats,
     /// Error of the full radiance against the Mitsuba 3 reference (Veach scene).
     pub mitsuba: Option<ErrorStats>,
-    /// Relative MSE per region (Veach scene), in the order of [`RegionMap::regions`].
-    pub regions: Vec<f64>,
 }
 
 /// One render of the equal-time comparison.
@@ -168,6 +166,8 @@ pub struct SceneStudy {
     pub reference: Reference,
     /// Plate x light regions, when the scene has them (the Veach scene).
     pub regions: Option<RegionMap>,
+    /// Errors per region, each light rendered alone at the top rung.
+    pub region_study: RegionStudy,
     /// Why there is no Mitsuba comparison (Veach scene only), if there is none.
     pub mitsuba_note: Option<String>,
     /// Error of the reference's full radiance against the Mitsuba 3 reference (Veach scene).
@@ -263,7 +263,8 @@ fn measured(e: &Estimate, include_emitted: bool) -> Rgb {
     if include_emitted { e.radiance() } else { e.light.contribution + e.bsdf.contribution }
 }
 
-fn settings(m: &StudyMethod, n: (u16, u16), spp: u32, seed: u32) -> Result<RenderSettings, SimError> {
+/// The render settings of method `m` with `n` = (light, BSDF) samples per camera sample.
+pub fn settings(m: &StudyMethod, n: (u16, u16), spp: u32, seed: u32) -> Result<RenderSettings, SimError> {
     RenderSettings::new(m.method, n.0.max(1), n.1.max(1), spp, seed)
         .map(|s| s.with_sphere_sampling(m.spheres))
         .map_err(|e| SimError::Usage(format!("{}: {e}", m.label)))
@@ -288,7 +289,7 @@ impl SceneVisitor for SceneJob<'_> {
         let samples = self.loaded.file.default_samples();
         let include_emitted = self.args.include_emitted;
 
-        let reference = reference::get(&scene, self.loaded, self.cache, self.ref_spp, samples)?;
+        let reference = reference::get(&scene, self.loaded, self.cache, self.ref_spp, samples, "")?;
         let target: &[Rgb] = if include_emitted { &reference.full } else { &reference.reflected };
         eprintln!(
             "{name}: {w}x{h}, reference {} spp ({}), its own noise: rel. MSE {:.2e}",
@@ -333,15 +334,24 @@ impl SceneVisitor for SceneJob<'_> {
                         let full: Vec<Rgb> = img.iter().map(Estimate::radiance).collect();
                         metrics::error(&full, r)
                     });
-                    let regions = regions.as_ref().map_or_else(Vec::new, |r| r.rel_mse(&values, target));
-                    records.push(Record { method: mi, spp, seed, seconds, error, mitsuba, regions });
+                    records.push(Record { method: mi, spp, seed, seconds, error, mitsuba });
                 }
             }
         }
         bar.finish_and_clear();
 
-        // Equal time: every method gets the time balance took at the top rung.
+        // Each light alone, for the error per plate x light region.
         let top = *self.ladder.last().unwrap_or(&1);
+        let region_study = match &regions {
+            Some(map) => {
+                let ref_spp = (self.ref_spp / 4).max(256);
+                let (scene, loaded, cache) = (&scene, self.loaded, self.cache);
+                regions::study(scene, map, loaded, cache, ref_spp, samples, &methods, top, &seeds)?
+            }
+            None => RegionStudy::default(),
+        };
+
+        // Equal time: every method gets the time balance took at the top rung.
         let budget = mean(records.iter().filter(|r| r.method == BALANCE && r.spp == top).map(|r| r.seconds));
         let spps: Vec<u32> = (0..methods.len())
             .map(|mi| {
@@ -371,6 +381,7 @@ impl SceneVisitor for SceneJob<'_> {
             budget,
             reference,
             regions,
+            region_study,
             mitsuba_note,
             reference_vs_mitsuba,
         })

@@ -77,14 +77,17 @@ fn balance(samples: (u16, u16), spp: u32, seed: u32) -> Result<RenderSettings, S
         .map_err(|e| SimError::Usage(format!("reference settings: {e}")))
 }
 
-/// The cache key of `loaded`'s scene as built into `scene`.
+/// The cache key of `loaded`'s scene as built into `scene` (`variant` names a modified copy,
+/// e.g. one light alone).
 fn key<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     loaded: &Loaded,
     samples: (u16, u16),
+    variant: &str,
 ) -> Result<String, SimError> {
     let mut h = Fnv::new();
     h.write(KEY_VERSION.as_bytes());
+    h.write(variant.as_bytes());
     h.write(KERNEL_MANIFEST.as_bytes());
     match loaded.builtin.and_then(find_builtin) {
         Some(b) => h.write(b.json.as_bytes()),
@@ -150,16 +153,17 @@ fn parse_info(text: &str) -> Option<(ErrorStats, f64)> {
     Some((ErrorStats { mse: get("noise_mse")?, rel_mse: get("noise_rel_mse")? }, get("seconds")?))
 }
 
-/// The reference of `scene` with at least `min_spp` samples per pixel: from the cache, or
-/// rendered and cached.
+/// The reference of `scene` (`loaded`'s scene, or its `variant`) with at least `min_spp`
+/// samples per pixel: from the cache, or rendered and cached.
 pub fn get<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     loaded: &Loaded,
     dir: &Path,
     min_spp: u32,
     samples: (u16, u16),
+    variant: &str,
 ) -> Result<Reference, SimError> {
-    let key = key(scene, loaded, samples)?;
+    let key = key(scene, loaded, samples, variant)?;
     let film = scene.film();
     let (w, h) = (film.width(), film.height());
     for (spp, _) in cached(dir, &key).into_iter().filter(|(spp, _)| *spp >= min_spp) {
@@ -186,7 +190,8 @@ pub fn get<const S: usize, const L: usize, const M: usize>(
     // Render two halves with independent seeds.
     let half = min_spp.div_ceil(2);
     let spp = 2 * half;
-    let bar = progress_bar(u64::from(spp) * u64::from(h), &format!("{}: reference", loaded.file.name()));
+    let bar =
+        progress_bar(u64::from(spp) * u64::from(h), &format!("{}{variant}: reference", loaded.file.name()));
     let mut halves: Vec<Vec<Estimate>> = Vec::new();
     let mut seconds = 0.0;
     for seed in SEEDS {
@@ -225,7 +230,7 @@ pub fn get<const S: usize, const L: usize, const M: usize>(
         write_atomic(path, &encode(&image, Format::Exr).map_err(SimError::Io)?).map_err(SimError::Io)?;
     }
     let mut info = String::new();
-    let _ = writeln!(info, "scene={}\nwidth={w}\nheight={h}\nspp={spp}", loaded.file.name());
+    let _ = writeln!(info, "scene={}{variant}\nwidth={w}\nheight={h}\nspp={spp}", loaded.file.name());
     let _ = writeln!(info, "method=balance, cone sampling, seeds {:#x} and {:#x}", SEEDS[0], SEEDS[1]);
     let _ = writeln!(info, "noise_mse={:e}\nnoise_rel_mse={:e}\nseconds={seconds}", noise.mse, noise.rel_mse);
     write_atomic(&info_path, info.as_bytes()).map_err(SimError::Io)?;

@@ -5,10 +5,35 @@
 //! each plate is cut into one region per light. Error per region tells which technique fails
 //! where: BSDF sampling on small lights over rough plates, light sampling on big lights over
 //! smooth plates.
+//!
+//! A region's error is measured on the light of its own glint alone: each light is rendered
+//! in a copy of the scene where every other emitter has zero radiance. Light selection keeps its
+//! probabilities (uniform over all lights) and every camera sample draws the same random numbers,
+//! so such a render is exactly the part of the full render that this light contributes; without
+//! the isolation, rare hits of the small bright lights by BSDF samples would swamp every region.
 
-use picomis::{Light, Material, Ray, Rgb, Scene, Vec2, Vec3};
+use picomis::{Light, Material, MaterialId, Ray, Rgb, Scene, SceneError, ShapeId, Vec2, Vec3};
+use rayon::prelude::*;
 
 use super::metrics::channel_errors;
+use super::reference::{self, Reference};
+use super::{StudyMethod, render, settings};
+use crate::SimError;
+use crate::render::progress_bar;
+use crate::scenes::Loaded;
+
+/// Relative MSE of one region in a render of its light alone.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RegionRecord {
+    /// Index in [`super::study_methods`].
+    pub method: usize,
+    /// Seed.
+    pub seed: u32,
+    /// Index in [`RegionMap::regions`].
+    pub region: usize,
+    /// Relative MSE of the reflected light of the region's light, in the region.
+    pub rel_mse: f64,
+}
 
 /// One plate x light region.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,6 +59,8 @@ pub struct RegionMap {
     pub plates: Vec<f32>,
     /// Radius of each light, smallest first.
     pub lights: Vec<f32>,
+    /// Index in the scene's light list of each light.
+    pub light_ids: Vec<usize>,
     /// The regions, by plate then light.
     pub regions: Vec<Region>,
     /// The region of each pixel, if any.
@@ -57,13 +84,14 @@ impl RegionMap {
                 _ => None,
             })
             .collect();
+        // (light index, centre, radius) of the sphere lights.
         let mut lights: Vec<(usize, Vec3, f32)> = scene
             .lights()
             .iter()
-            .filter_map(|l| match l {
+            .enumerate()
+            .filter_map(|(li, l)| match l {
                 Light::Area { shape, .. } => {
-                    let i = usize::from(*shape);
-                    objects.get(i)?.shape.as_sphere().map(|(c, r)| (i, c, r))
+                    objects.get(usize::from(*shape))?.shape.as_sphere().map(|(c, r)| (li, c, r))
                 }
                 Light::Point { .. } => None,
             })
@@ -140,6 +168,7 @@ impl RegionMap {
             height: h,
             plates: used_plates.iter().map(|&p| plates[p].1).collect(),
             lights: used_lights.iter().map(|&l| lights[l].2).collect(),
+            light_ids: used_lights.iter().map(|&l| lights[l].0).collect(),
             regions,
             pixel,
         })
@@ -162,6 +191,90 @@ impl RegionMap {
     pub fn index(&self, p: usize, l: usize) -> Option<usize> {
         self.regions.iter().position(|r| r.plate == p && r.light == l)
     }
+}
+
+/// A copy of `scene` in which only light `keep` (an index into its light list) emits; every
+/// other light stays in the list with zero radiance or intensity, so light selection, light
+/// indices and the random numbers each sample draws are those of `scene`.
+pub fn isolate<const S: usize, const L: usize, const M: usize>(
+    scene: &Scene<S, L, M>,
+    keep: usize,
+) -> Result<Scene<S, L, M>, SceneError> {
+    let mut out = Scene::new(scene.camera().desc(), scene.film())?;
+    let materials: Vec<MaterialId> =
+        scene.materials().iter().map(|m| out.add_material(*m)).collect::<Result<_, _>>()?;
+    let mut shapes: Vec<ShapeId> = Vec::new();
+    for (i, o) in scene.objects().iter().enumerate() {
+        // Materials are values: the first equal one is as good as the original.
+        let m = scene.material(i).and_then(|m| scene.materials().iter().position(|x| x == m)).unwrap_or(0);
+        let id = *materials.get(m).ok_or(SceneError::UnknownMaterial)?;
+        shapes.push(out.add_shape(o.shape, id)?);
+    }
+    for (li, light) in scene.lights().iter().enumerate() {
+        let on = li == keep;
+        match *light {
+            Light::Area { shape, radiance } => {
+                let id = *shapes.get(usize::from(shape)).ok_or(SceneError::UnknownMaterial)?;
+                out.add_area_light(id, if on { radiance } else { Rgb::ZERO })?;
+            }
+            Light::Point { position, intensity } => {
+                out.add_point_light(position, if on { intensity } else { Rgb::ZERO })?;
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// What the region study measured: per-region errors and the reference of each light.
+#[derive(Clone, Debug, Default)]
+pub struct RegionStudy {
+    /// One record per method, seed and region.
+    pub records: Vec<RegionRecord>,
+    /// The reference of each light alone (in the order of [`RegionMap::lights`]).
+    pub references: Vec<Reference>,
+    /// Samples per pixel of the region renders.
+    pub spp: u32,
+}
+
+/// Renders each light of `map` alone with every method at `spp` for each seed and measures the
+/// error of its regions against that light's own reference (`ref_spp` samples per pixel).
+#[allow(clippy::too_many_arguments)]
+pub fn study<const S: usize, const L: usize, const M: usize>(
+    scene: &Scene<S, L, M>,
+    map: &RegionMap,
+    loaded: &Loaded,
+    cache: &std::path::Path,
+    ref_spp: u32,
+    samples: (u16, u16),
+    methods: &[StudyMethod],
+    spp: u32,
+    seeds: &[u32],
+) -> Result<RegionStudy, SimError> {
+    let mut out = RegionStudy { spp, ..RegionStudy::default() };
+    let h = u64::from(scene.film().height());
+    for (l, &light) in map.light_ids.iter().enumerate() {
+        let alone =
+            isolate(scene, light).map_err(|e| SimError::Usage(format!("isolating light {light}: {e}")))?;
+        let variant = format!("-light{light}");
+        let r = reference::get(&alone, loaded, cache, ref_spp, samples, &variant)?;
+        let renders = methods.len() as u64 * seeds.len() as u64 * u64::from(spp);
+        let name = format!("{}: light {} of {} alone", loaded.file.name(), l + 1, map.light_ids.len());
+        let bar = progress_bar(renders * h, &name);
+        for &seed in seeds {
+            for (mi, m) in methods.iter().enumerate() {
+                let (img, _) = render(&alone, &settings(m, samples, spp, seed)?, &bar);
+                let values: Vec<Rgb> =
+                    img.par_iter().map(|e| e.light.contribution + e.bsdf.contribution).collect();
+                let errors = map.rel_mse(&values, &r.reflected);
+                for (k, _) in map.regions.iter().enumerate().filter(|(_, g)| g.light == l) {
+                    out.records.push(RegionRecord { method: mi, seed, region: k, rel_mse: errors[k] });
+                }
+            }
+        }
+        bar.finish_and_clear();
+        out.references.push(r);
+    }
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -187,6 +300,7 @@ mod tests {
         let map = loaded.visit(film, Find).unwrap().expect("regions");
         assert_eq!(map.plates, vec![0.005, 0.02, 0.05, 0.1]);
         assert_eq!(map.lights, vec![0.03333, 0.1, 0.3, 0.9]);
+        assert_eq!(map.light_ids, vec![0, 1, 2, 3]);
         assert_eq!(map.regions.len(), 16);
         assert!(map.regions.iter().all(|r| r.pixels > 20), "{:?}", map.regions);
         // Along each plate, the glints go left to right from the small light to the big one.
@@ -202,6 +316,54 @@ mod tests {
         image[first] = Rgb::splat(1.5);
         let e = map.rel_mse(&image, &reference);
         assert!(e[0] > 0.0 && e[1..].iter().all(|&v| v == 0.0));
+    }
+
+    struct Split;
+    impl SceneVisitor for Split {
+        type Output = (Vec<Rgb>, Vec<Rgb>, usize);
+        fn visit<const S: usize, const L: usize, const M: usize>(
+            self,
+            scene: Scene<S, L, M>,
+        ) -> Self::Output {
+            let settings = picomis::RenderSettings::new(
+                picomis::Method::Mis(picomis::Heuristic::Power { beta: 2.0 }),
+                1,
+                1,
+                2,
+                3,
+            )
+            .unwrap();
+            let film = scene.film();
+            let px = |s: &Scene<S, L, M>| -> Vec<Rgb> {
+                (0..film.pixels())
+                    .map(|i| {
+                        picomis::render_pixel(s, &settings, i % film.width(), i / film.width()).radiance()
+                    })
+                    .collect()
+            };
+            let full = px(&scene);
+            let mut sum = vec![Rgb::ZERO; full.len()];
+            for l in 0..scene.lights().len() {
+                let alone = isolate(&scene, l).unwrap();
+                assert_eq!(alone.lights().len(), scene.lights().len());
+                for (a, b) in sum.iter_mut().zip(px(&alone)) {
+                    *a += b;
+                }
+            }
+            (full, sum, scene.lights().len())
+        }
+    }
+
+    #[test]
+    fn lights_rendered_alone_add_up_to_the_full_render() {
+        // Same random numbers per sample: the parts are the full render's, up to f32 rounding.
+        let loaded = load(Some("veach_mis")).unwrap();
+        let (full, sum, lights) = loaded.visit(picomis::Film::new(48, 32).unwrap(), Split).unwrap();
+        assert_eq!(lights, 5);
+        for (f, s) in full.iter().zip(&sum) {
+            assert!((*f - *s).abs().max_element() <= 1e-4 * f.max_element().max(1.0), "{f} vs {s}");
+        }
+        assert!(full.iter().map(|c| c.x).sum::<f32>() > 0.0);
     }
 
     #[test]
