@@ -160,7 +160,12 @@ pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
             continue;
         }
         let p_light = scene.light_pdf(light_index, p, &y.point, spheres, selection);
-        let w = method.weight(Technique::Bsdf, n_light * p_light, n_bsdf * bs.pdf);
+        // The weight needs p_b as a function of the direction, the same function the light
+        // technique's weight used (`eval_pdf`), so the two weights of a direction sum to one
+        // exactly. (`bs.pdf`, from the sampled half vector, can differ from it by rounding at
+        // grazing near-mirror angles; the sample's f / p_b, `bs.weight`, uses the exact one.)
+        let p_bsdf = bsdf.pdf(wo, bs.wi);
+        let w = method.weight(Technique::Bsdf, n_light * p_light, n_bsdf * p_bsdf);
         by_bsdf.add(bs.weight * radiance * (w / n_bsdf), w);
     }
     (by_light, by_bsdf)

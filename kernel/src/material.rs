@@ -66,10 +66,12 @@ impl Material {
     /// True when the material reflects nothing (f = 0 everywhere): direct lighting is skipped.
     #[inline]
     pub fn is_black(&self) -> bool {
-        match self {
-            Material::Lambertian { albedo } => albedo.max_element() <= 0.0,
-            Material::GgxConductor { reflectance, .. } => reflectance.max_element() <= 0.0,
-        }
+        let c = match self {
+            Material::Lambertian { albedo } => albedo,
+            Material::GgxConductor { reflectance, .. } => reflectance,
+        };
+        // Compare-and-branch rather than `max_element` (an `fmaxf` call on Cortex-M).
+        !(c.x > 0.0 || c.y > 0.0 || c.z > 0.0)
     }
 
     /// f(wo, wi) cos(theta_i).

@@ -33,7 +33,7 @@ impl Heuristic {
     pub fn weights<const N: usize>(&self, q: [f32; N]) -> [f32; N] {
         // Scale into r_i = q_i / q_max in [0, 1].
         let q = q.map(|v| if v > 0.0 { v } else { 0.0 });
-        let q_max = q.iter().fold(0.0f32, |m, &v| m.max(v));
+        let q_max = q.iter().fold(0.0f32, |m, &v| if v > m { v } else { m });
         if q_max <= 0.0 {
             return [0.0; N];
         }

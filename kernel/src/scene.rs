@@ -211,18 +211,22 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// The nearest hit in `(t_min, t_max)`, ignoring object `skip`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, skip: Option<usize>) -> Option<Hit> {
-        let mut best: Option<(f32, usize)> = None;
-        let mut t_far = t_max;
+        let skip = skip.unwrap_or(usize::MAX);
+        let (mut t_far, mut best) = (t_max, usize::MAX);
         for (i, o) in self.objects.iter().enumerate() {
-            if Some(i) == skip {
-                continue;
-            }
-            if let Some(t) = o.shape.intersect(ray, t_min, t_far) {
-                t_far = t;
-                best = Some((t, i));
+            if i != skip {
+                if let Some(t) = o.shape.intersect(ray, t_min, t_far) {
+                    t_far = t;
+                    best = i;
+                }
             }
         }
-        let (t, object) = best?;
+        self.hit(ray, t_far, best)
+    }
+
+    /// The [`Hit`] record for object `object` at distance `t` along `ray`.
+    #[inline]
+    fn hit(&self, ray: &Ray, t: f32, object: usize) -> Option<Hit> {
         let shape = &self.objects.get(object)?.shape;
         let p = ray.at(t);
         let n = shape.normal_at(p);
@@ -230,49 +234,47 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     }
 
     /// The first surface along `ray` (ignoring object `skip`) if it is an emitter's front side:
-    /// the emitting hit and its light index. Cheaper than [`Scene::intersect`]: the closest
-    /// emitter is found first, then only an any-hit occlusion test runs up to it, so rays that
-    /// miss every light test only the emitters.
+    /// the emitting hit, its light index and radiance. Cheaper than [`Scene::intersect`]: the
+    /// closest emitter is found first, then only an any-hit occlusion test by the other objects
+    /// runs up to it, so rays that miss every light test only the emitters.
     #[inline]
     pub fn emitter_hit(&self, ray: &Ray, skip: usize) -> Option<(Hit, usize, Rgb)> {
-        let mut best: Option<(f32, usize, usize, Rgb)> = None;
-        let mut t_far = f32::INFINITY;
-        for (light_index, light) in self.lights.iter().enumerate() {
-            let Light::Area { shape, radiance } = *light else { continue };
-            let object = usize::from(shape);
-            if object == skip {
-                continue;
-            }
-            let Some(o) = self.objects.get(object) else { continue };
-            if let Some(t) = o.shape.intersect(ray, 0.0, t_far) {
-                t_far = t;
-                best = Some((t, object, light_index, radiance));
+        let (mut t_far, mut best) = (f32::INFINITY, usize::MAX);
+        for (i, o) in self.objects.iter().enumerate() {
+            if o.light.is_some() && i != skip {
+                if let Some(t) = o.shape.intersect(ray, 0.0, t_far) {
+                    t_far = t;
+                    best = i;
+                }
             }
         }
-        let (t, object, light_index, radiance) = best?;
-        let shape = &self.objects.get(object)?.shape;
-        let p = ray.at(t);
-        let n = shape.normal_at(p);
-        if !(n.dot(ray.dir) < 0.0) {
+        let hit = self.hit(ray, t_far, best)?;
+        if !hit.front {
             return None; // the back of an emitter: it emits nothing this way
         }
         // Anything else in front of it? (Emitters were already compared above.)
-        let blocked = self.objects.iter().enumerate().any(|(i, o)| {
-            i != skip && i != object && o.light.is_none() && o.shape.intersect(ray, 0.0, t).is_some()
-        });
-        if blocked {
-            return None;
+        for (i, o) in self.objects.iter().enumerate() {
+            if o.light.is_none() && i != skip && o.shape.intersect(ray, 0.0, t_far).is_some() {
+                return None;
+            }
         }
-        Some((Hit { t, object, point: SurfacePoint { p, n }, front: true }, light_index, radiance))
+        let light_index = usize::from(self.objects.get(best)?.light?);
+        match self.lights.get(light_index)? {
+            Light::Area { radiance, .. } => Some((hit, light_index, *radiance)),
+            Light::Point { .. } => None,
+        }
     }
 
     /// True when nothing but objects `a` and `b` lies on the ray before `t_max`.
     #[inline]
     pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: usize, b: Option<usize>) -> bool {
-        self.objects
-            .iter()
-            .enumerate()
-            .all(|(i, o)| i == a || Some(i) == b || o.shape.intersect(ray, 0.0, t_max).is_none())
+        let b = b.unwrap_or(usize::MAX);
+        for (i, o) in self.objects.iter().enumerate() {
+            if i != a && i != b && o.shape.intersect(ray, 0.0, t_max).is_some() {
+                return false;
+            }
+        }
+        true
     }
 
     /// Chooses a light for a light sample: its index and selection probability.
