@@ -21,7 +21,8 @@ step "cargo clippy -D warnings (host crates, all targets)"
 cargo clippy --all-targets -- -D warnings
 
 step "kernel: no f64, no alloc"
-if grep -rnE '\bf64\b|extern crate alloc|alloc::' kernel/src; then
+# Code lines only: doc comments may name f64 (to say why it is avoided).
+if grep -rnE '\bf64\b|extern crate alloc|alloc::' kernel/src | grep -vE '^[^:]+:[0-9]+:\s*//'; then
   echo "the kernel must not use f64 or alloc" >&2
   exit 1
 fi
