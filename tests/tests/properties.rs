@@ -334,14 +334,7 @@ fn render_pixel_outputs_are_finite() {
 // ---------------------------------------------------------------------------------------------
 // 2. Pdfs and weights at random surface points
 
-const HEURISTICS: [Heuristic; 6] = [
-    Heuristic::Average,
-    Heuristic::Balance,
-    Heuristic::Power { beta: 2.0 },
-    Heuristic::Power { beta: 0.5 },
-    Heuristic::Maximum,
-    Heuristic::Cutoff { alpha: 0.1 },
-];
+use picomis_tests::HEURISTICS;
 
 /// Every heuristic's weights on `q`: in [0, 1], 0 where q is 0 (W2), summing to 1 where some
 /// q > 0 (W1); and the weighted contribution w[technique] `unweighted` of the sample (as the

@@ -222,14 +222,7 @@ proptest! {
 /// Hand-picked corner cases (also run by the properties, but named here).
 #[test]
 fn corner_cases() {
-    let all = [
-        Heuristic::Average,
-        Heuristic::Balance,
-        Heuristic::Power { beta: 2.0 },
-        Heuristic::Power { beta: 0.5 },
-        Heuristic::Maximum,
-        Heuristic::Cutoff { alpha: 0.1 },
-    ];
+    let all = picomis_tests::HEURISTICS;
     let inf = f32::INFINITY;
     for h in all {
         for q in [
