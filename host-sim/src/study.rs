@@ -9,7 +9,9 @@
 //! per scene, efficiency tables (`summary.md`) and, for the Veach scene, the error per
 //! plate x light region (`veach_regions.md` and heat maps).
 //!
-//! The error is measured on the reflected (direct) light, the part the techniques estimate: the
+//! Time is wall-clock time on all cores; where a method's time enters a ratio (efficiency,
+//! equal time, the time axis of the charts) the fastest of its seeds' renders is used, which is
+//! robust against other processes on the machine. The error is measured on the reflected (direct) light, the part the techniques estimate: the
 //! radiance of lights seen directly comes from the camera ray alone, is the same for every method
 //! (the same seed gives the same camera rays), and its pixel-edge noise would otherwise add the
 //! same floor to every method. `--include-emitted` measures the full radiance instead.
@@ -352,7 +354,7 @@ impl SceneVisitor for SceneJob<'_> {
         };
 
         // Equal time: every method gets the time balance took at the top rung.
-        let budget = mean(records.iter().filter(|r| r.method == BALANCE && r.spp == top).map(|r| r.seconds));
+        let budget = f64::from(top) * cost_per_spp(&records, BALANCE, top);
         let spps: Vec<u32> = (0..methods.len())
             .map(|mi| {
                 let cost = cost_per_spp(&records, mi, top);
@@ -388,14 +390,15 @@ impl SceneVisitor for SceneJob<'_> {
     }
 }
 
-/// Seconds per sample per pixel of method `mi`, from its two top rungs (the best-timed renders).
+/// Seconds per sample per pixel of method `mi`: the fastest render of its two top rungs, per spp.
+/// Taking the fastest of several seeds' renders (methods interleaved) keeps other processes on
+/// the machine from inflating one method's cost more than another's.
 pub fn cost_per_spp(records: &[Record], mi: usize, top: u32) -> f64 {
-    let (mut secs, mut spp) = (0.0, 0.0);
-    for r in records.iter().filter(|r| r.method == mi && 2 * r.spp >= top) {
-        secs += r.seconds;
-        spp += f64::from(r.spp);
-    }
-    if spp > 0.0 { secs / spp } else { f64::INFINITY }
+    records
+        .iter()
+        .filter(|r| r.method == mi && 2 * r.spp >= top)
+        .map(|r| r.seconds / f64::from(r.spp))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Mean of the values (NaN for none).

@@ -19,7 +19,7 @@ use crate::scenes::{Loaded, find_builtin};
 /// The kernel's manifest (its version), part of the cache key.
 const KERNEL_MANIFEST: &str = include_str!("../../../kernel/Cargo.toml");
 /// Bump when the way references are made changes.
-const KEY_VERSION: &str = "picomis-study-reference/1";
+const KEY_VERSION: &str = "picomis-study-reference/2";
 /// Seeds of the two halves (the ladder uses small seeds, the equal-time renders another one).
 const SEEDS: [u32; 2] = [0x5eed_0001, 0x5eed_0002];
 
@@ -71,6 +71,10 @@ impl Default for Fnv {
     }
 }
 
+fn usage(e: picomis::SceneError) -> SimError {
+    SimError::Usage(format!("reference settings: {e}"))
+}
+
 fn balance(samples: (u16, u16), spp: u32, seed: u32) -> Result<RenderSettings, SimError> {
     RenderSettings::new(Method::Mis(Heuristic::Balance), samples.0.max(1), samples.1.max(1), spp, seed)
         .map(|s| s.with_sphere_sampling(SphereSampling::Cone))
@@ -99,15 +103,21 @@ fn key<const S: usize, const L: usize, const M: usize>(
     }
     h.write(&samples.0.to_le_bytes());
     h.write(&samples.1.to_le_bytes());
-    // Kernel fingerprint: 4 x 4 pixels, 2 samples each.
+    // Kernel fingerprint: 32 x 32 pixels, 2 samples each, with three methods (both techniques,
+    // both sphere samplings): any kernel change that alters the scene's pixels is likely caught.
     let film = scene.film();
-    let settings = balance(samples, 2, 7)?;
-    for j in 0..4 {
-        for i in 0..4 {
-            let (x, y) = ((2 * i + 1) * film.width() / 8, (2 * j + 1) * film.height() / 8);
-            let c = render_pixel(scene, &settings, x, y).radiance();
-            for v in [c.x, c.y, c.z] {
-                h.write(&v.to_bits().to_le_bytes());
+    let bsdf = RenderSettings::new(Method::BsdfOnly, 1, 1, 2, 7);
+    let light = RenderSettings::new(Method::LightOnly, 1, 1, 2, 7)
+        .map(|s| s.with_sphere_sampling(SphereSampling::Area));
+    let all = [balance(samples, 2, 7)?, bsdf.map_err(usage)?, light.map_err(usage)?];
+    for settings in &all {
+        for j in 0..32 {
+            for i in 0..32 {
+                let (x, y) = ((2 * i + 1) * film.width() / 64, (2 * j + 1) * film.height() / 64);
+                let c = render_pixel(scene, settings, x, y).radiance();
+                for v in [c.x, c.y, c.z] {
+                    h.write(&v.to_bits().to_le_bytes());
+                }
             }
         }
     }
