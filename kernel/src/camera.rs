@@ -1,4 +1,4 @@
-//! The pinhole camera of the scene format: film coordinates (u right, v down) in [0,1]^2,
+//! The pinhole camera of the scene format: film coordinates (u right, v down) in [0, 1]^2,
 //! a vertical or horizontal field of view, and a near clip plane.
 
 use crate::error::{Field, SceneError};

@@ -320,7 +320,7 @@ const SRGB_STEPS: [f32; 255] = [
 ];
 
 /// Linear radiance to 8-bit sRGB: clamp to [0, 1], sRGB transfer curve, round to the nearest
-/// code. The code is found by a binary search over [`SRGB_STEPS`] (8 comparisons per channel
+/// code. The code is found by a binary search over a table of the 255 steps (8 comparisons per channel
 /// instead of a `powf`), so it costs the same on a Cortex-M0 as anywhere else.
 pub fn tone_map(c: Rgb) -> Rgb888 {
     let encode = |v: f32| {
