@@ -290,9 +290,12 @@ pub fn write_summary(
     write(&out.join("summary.md"), md.as_bytes())
 }
 
-/// A ratio with about three significant digits.
+/// A ratio with about three significant digits (one for ratios below 0.1, which only say "far
+/// worse").
 fn ratio(v: f64) -> String {
-    if v >= 100.0 {
+    if v < 0.095 {
+        format!("{v:.0e}")
+    } else if v >= 100.0 {
         format!("{v:.0}")
     } else if v >= 10.0 {
         format!("{v:.1}")
