@@ -10,10 +10,10 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use picomis::{
-    CameraDesc, Film, FovAxis, LightSelection, Material, Method, RenderSettings, Rgb, Sampler, Scene, Shape,
-    SphereSampling, Vec2, Vec3,
+    CameraDesc, Film, FovAxis, LightSelection, Material, RenderSettings, Rgb, Sampler, Scene, Shape, Vec2,
+    Vec3,
 };
-use picomis_format::{SceneFile, parse_method};
+use picomis_format::SceneFile;
 
 /// Criterion samples per benchmark (kept small: `cargo bench -p picomis-bench` takes minutes).
 pub const SAMPLE_SIZE: usize = 20;
@@ -22,34 +22,9 @@ pub const WARM_UP: Duration = Duration::from_millis(300);
 /// Criterion measurement time per benchmark.
 pub const MEASUREMENT: Duration = Duration::from_millis(900);
 
-/// A method under study: its label, the kernel method and the sphere-light sampling.
-#[derive(Clone, Copy, Debug)]
-pub struct StudyMethod {
-    /// Label used in benchmark ids and tables.
-    pub label: &'static str,
-    /// The combination.
-    pub method: Method,
-    /// How sphere lights are sampled.
-    pub spheres: SphereSampling,
-}
-
-/// The methods of the study, in the seed's order: BSDF sampling alone, light sampling alone with
-/// sphere lights sampled by area and by cone, then the heuristics (all with cone sampling):
-/// average, balance, power (beta 2), maximum and cutoff (alpha 0.1).
-pub fn methods() -> Vec<StudyMethod> {
-    let m = |name: &str| parse_method(name, 2.0, 0.1).expect("built-in method names parse");
-    let cone = SphereSampling::Cone;
-    vec![
-        StudyMethod { label: "bsdf", method: m("bsdf"), spheres: cone },
-        StudyMethod { label: "light_area", method: m("light"), spheres: SphereSampling::Area },
-        StudyMethod { label: "light_cone", method: m("light"), spheres: cone },
-        StudyMethod { label: "average", method: m("average"), spheres: cone },
-        StudyMethod { label: "balance", method: m("balance"), spheres: cone },
-        StudyMethod { label: "power", method: m("power"), spheres: cone },
-        StudyMethod { label: "maximum", method: m("maximum"), spheres: cone },
-        StudyMethod { label: "cutoff", method: m("cutoff"), spheres: cone },
-    ]
-}
+/// The methods of the study (`picomis-sim study`), in the seed's order: the benchmarks time
+/// exactly the list the study charts.
+pub use picomis_sim::study::{StudyMethod, study_methods as methods};
 
 /// Settings of one camera sample of `m`: one light and one BSDF sample (as the built-in scenes'
 /// integrator blocks ask), 1 spp.
