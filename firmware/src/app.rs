@@ -81,7 +81,7 @@ fn fnv1a(data: &[u8]) -> u32 {
 fn settings() -> Result<RenderSettings, picomis::SceneError> {
     let mut s = scene::settings()?;
     if let Some(spp) = config::SPP {
-        s = s.with_spp(spp);
+        s = s.with_spp(spp)?;
     }
     if let Some(seed) = config::SEED {
         s = s.with_seed(seed);

@@ -72,10 +72,13 @@ impl RenderSettings {
         self
     }
 
-    /// The same settings with another number of samples per pixel (0 is raised to 1).
-    pub fn with_spp(mut self, spp: u32) -> Self {
-        self.spp = spp.max(1);
-        self
+    /// The same settings with another number of samples per pixel (at least 1, as in [`Self::new`]).
+    pub fn with_spp(mut self, spp: u32) -> Result<Self, SceneError> {
+        if spp == 0 {
+            return Err(SceneError::NonPositive(Field::SamplesPerPixel));
+        }
+        self.spp = spp;
+        Ok(self)
     }
 
     /// The combination method.
@@ -120,6 +123,8 @@ mod tests {
             RenderSettings::new(Method::BsdfOnly, 1, 1, 0, 0),
             Err(SceneError::NonPositive(Field::SamplesPerPixel))
         );
-        assert!(RenderSettings::new(p(2.0), 1, 0, 1, 0).is_ok());
+        let ok = RenderSettings::new(p(2.0), 1, 0, 1, 0).unwrap();
+        assert_eq!(ok.with_spp(0), Err(SceneError::NonPositive(Field::SamplesPerPixel)));
+        assert_eq!(ok.with_spp(8).map(|s| s.spp()), Ok(8));
     }
 }
