@@ -513,24 +513,25 @@ const BSDF_MISSES_TINY: &str = "a cosine-sampled direction hits a light of angul
 const AVERAGE_LIGHT_HALF: &str = "the average gives each technique half of f; the BSDF half is as unreachable as \
 BSDF sampling, the light half (0.5 ref) is asserted";
 
-/// A Lambertian floor under a sphere light of radius `k` d at distance d = 2, 30 degrees off
-/// the normal, radiance 1/k^2 (so that the irradiance is pi cos(30 deg) for every k).
-fn tiny_light(k: f32) -> Case {
+/// A Lambertian floor at the origin under a sphere light of angular radius `k` whose centre is
+/// at distance 2 along `dir`, radiance 1/k^2 (closed form). BSDF sampling cannot find a light
+/// this small, and the average heuristic keeps only its light half.
+fn small_light_case(label: String, dir: Vec3, k: f32) -> Case {
     let mut s = Setup::floor(lambertian());
-    let (d, c) = (2.0, tilt(30.0) * 2.0);
+    let d = 2.0;
+    let c = dir * d;
     let (r, radiance) = (k * d, 1.0 / (k * k));
     s.sphere_light(c, r, radiance);
     let hit = origin_hit();
     let exact = lambert_out(sphere_e(&hit, c, r, radiance));
-    Case::new(
-        format!("tiny sphere light, r/d = {k:.0e}"),
-        s.scene,
-        hit,
-        wo_default(),
-        Reference::Exact(exact),
-    )
-    .except(Col::Bsdf, Check::FiniteOnly, BSDF_MISSES_TINY)
-    .except(Col::Average, Check::Part(Technique::Light, 0.5), AVERAGE_LIGHT_HALF)
+    Case::new(label, s.scene, hit, wo_default(), Reference::Exact(exact))
+        .except(Col::Bsdf, Check::FiniteOnly, BSDF_MISSES_TINY)
+        .except(Col::Average, Check::Part(Technique::Light, 0.5), AVERAGE_LIGHT_HALF)
+}
+
+/// A sphere light of r/d = `k`, 30 degrees off the normal (irradiance pi cos(30 deg) for every k).
+fn tiny_light(k: f32) -> Case {
+    small_light_case(format!("tiny sphere light, r/d = {k:.0e}"), tilt(30.0), k)
 }
 
 #[test]
@@ -681,23 +682,9 @@ fn grazing_view_ggx() -> Case {
 /// A sphere light of angular radius `k` whose centre is at cos(theta) = 2k (just above the
 /// horizon), radiance 1/k^2.
 fn grazing_light(k: f32) -> Case {
-    let mut s = Setup::floor(lambertian());
     let cos = 2.0 * k;
-    let d = 2.0;
-    let c = Vec3::new((1.0 - cos * cos).sqrt(), cos, 0.0) * d;
-    let (r, radiance) = (k * d, 1.0 / (k * k));
-    s.sphere_light(c, r, radiance);
-    let hit = origin_hit();
-    let exact = lambert_out(sphere_e(&hit, c, r, radiance));
-    Case::new(
-        format!("Lambertian, grazing light (cos {cos:.0e}, r/d = {k:.0e})"),
-        s.scene,
-        hit,
-        wo_default(),
-        Reference::Exact(exact),
-    )
-    .except(Col::Bsdf, Check::FiniteOnly, BSDF_MISSES_TINY)
-    .except(Col::Average, Check::Part(Technique::Light, 0.5), AVERAGE_LIGHT_HALF)
+    let dir = Vec3::new((1.0 - cos * cos).sqrt(), cos, 0.0);
+    small_light_case(format!("Lambertian, grazing light (cos {cos:.0e}, r/d = {k:.0e})"), dir, k)
 }
 
 fn below_horizon() -> Case {
