@@ -129,7 +129,7 @@ check_render() {
     return
   fi
   if ! "$SIM" render "$ROOT/$scene" --width "$w" --height "$h" --spp "$spp" --seed "$seed" \
-      --out "$WORK/$name.host.rgb565" >"$WORK/$name.host.log" 2>&1; then
+      --out "$WORK/$name.host.rgb565" --digest >"$WORK/$name.host.log" 2>&1; then
     fail "$name: host render failed: $(tail -n 3 "$WORK/$name.host.log")"
     return
   fi
@@ -138,6 +138,29 @@ check_render() {
   else
     fail "$name: QEMU framebuffer differs from the host render"
   fi
+  if [ "$feats" = "" ]; then
+    check_digest "$name"
+  fi
+}
+
+# check_digest NAME: the f32 HDR estimates of every pixel (all parts), compared through the
+# digest the firmware logs (`hdr-digest N`) and the one `picomis-sim render --digest` printed.
+check_digest() {
+  local name=$1 dev host
+  dev=$(sed -n 's/^hdr-digest \([0-9]*\)$/\1/p' "$WORK/$name.log")
+  host=$(sed -n 's/^hdr-digest \([0-9]*\)$/\1/p' "$WORK/$name.host.log")
+  if [ -z "$dev" ] || [ -z "$host" ]; then
+    fail "$name: HDR digest missing (firmware '${dev}', host '${host}')"
+  elif [ "$dev" = "$host" ]; then
+    pass "$name: HDR estimates (f32 bits of every part of every pixel) == host: digest $dev"
+  else
+    fail "$name: HDR estimates differ from the host's: digest $dev on the device, $host on the host"
+  fi
+}
+
+# The built-in scenes, as `picomis-sim scenes` lists them (one definition: the host's list).
+builtin_scenes() {
+  [ -n "$SIM" ] && "$SIM" scenes | awk 'NF {print $1}'
 }
 
 check_build() { # NAME TARGET FEATURES
@@ -160,11 +183,16 @@ cmd_test() {
   check_render m4-veach-rtt $M4 "--features rtt" "$VEACH" 160 120 1 0
   [ ${#scenes[@]} -gt 1 ] && check_render m4-lambert $M4 "" "$LAMBERT" 160 120 1 0
   check_render m4-veach-spp $M4 "" "$VEACH" 48 32 3 7
+  local b
+  for b in $(builtin_scenes); do
+    check_render "m4-scene-$b" $M4 "" "scenes/$b.json" 40 30 2 5
+  done
   check_build m4-board-rtt $M4 "--no-default-features --features rtt"
   # Cortex-M0, 64x48 (16 KiB RAM).
   check_render m0-veach $M0 "" "$VEACH" 64 48 1 0
   check_render m0-veach-rtt $M0 "--features rtt" "$VEACH" 64 48 1 0
   [ ${#scenes[@]} -gt 1 ] && check_render m0-lambert $M0 "" "$LAMBERT" 64 48 1 0
+  check_render m0-veach-spp $M0 "" "$VEACH" 24 16 3 9
   check_build m0-board-rtt $M0 "--no-default-features --features rtt"
   say "firmware tests took $((SECONDS - start)) s"
   say "firmware: $PASSED passed, $FAILED failed"

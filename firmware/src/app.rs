@@ -179,7 +179,8 @@ fn run() -> u32 {
         stats.camera_samples,
         ticks,
         // u32 division: u64 division is a library call.
-        u32::try_from(ticks).unwrap_or(u32::MAX) / stats.camera_samples.max(1)
+        u32::try_from(ticks).unwrap_or(u32::MAX)
+            / u32::try_from(stats.camera_samples).unwrap_or(u32::MAX).max(1)
     );
     #[cfg(feature = "rtt")]
     defmt::println!("stats: {}", stats);
@@ -195,6 +196,9 @@ fn run() -> u32 {
         }
         info!("framebuffer written to host file {}", name);
     }
+
+    #[cfg(feature = "qemu")]
+    crate::digest::report(scene, &settings);
 
     #[cfg(feature = "measure")]
     crate::measure::run(scene, &settings, fb);

@@ -43,6 +43,8 @@ use defmt_rtt as _;
 mod app;
 #[cfg(target_os = "none")]
 mod clock;
+#[cfg(all(target_os = "none", feature = "qemu"))]
+mod digest;
 #[cfg(all(target_os = "none", feature = "measure"))]
 mod measure;
 #[cfg(all(target_os = "none", feature = "qemu"))]

@@ -11,7 +11,8 @@
 use picomis::{Heuristic, Method, RenderSettings, SphereSampling, render_pixel};
 use picomis_format::SceneFile;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, TestRunner};
+use proptest::strategy::ValueTree;
+use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use serde_json::Value;
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -31,8 +32,24 @@ fn cases(default: u32) -> u32 {
     std::env::var("PICOMIS_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(default)
 }
 
+/// A runner drawing `cases` inputs from a fixed ChaCha seed: CI runs the same inputs every time
+/// (the long, coverage-guided search is `scripts/fuzz.sh`).
 fn runner(cases: u32) -> TestRunner {
-    TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() })
+    let config =
+        Config { cases, failure_persistence: None, rng_algorithm: RngAlgorithm::ChaCha, ..Config::default() };
+    TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &[0xF2; 32]))
+}
+
+#[test]
+fn the_inputs_are_the_same_on_every_run() {
+    let strategy = proptest::collection::vec(any::<u8>(), 0..512);
+    let draw = || {
+        let mut r = runner(1);
+        (0..16).map(|_| strategy.new_tree(&mut r).unwrap().current()).collect::<Vec<_>>()
+    };
+    let first = draw();
+    assert_eq!(first, draw(), "two runners drew different inputs: the seed is not fixed");
+    assert!(first.iter().any(|v| v.len() > 1), "the strategy drew only empty inputs");
 }
 
 /// Loads; on success builds and renders a few pixels at a tiny resolution.

@@ -97,6 +97,10 @@ pub struct RenderArgs {
     /// Output file; the extension picks the format (default: `<scene name>.png` here).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Also print `hdr-digest N`: the digest of every pixel's HDR estimate (`picomis::Digest`,
+    /// the one the firmware logs), to compare two machines bit for bit.
+    #[arg(long)]
+    pub digest: bool,
 }
 
 /// `picomis-sim figure`.
@@ -257,6 +261,11 @@ fn render(args: &RenderArgs) -> Result<(), SimError> {
     };
     let bytes = encode(&image, format).map_err(SimError::Io)?;
     write_atomic(&out, &bytes).map_err(SimError::Io)?;
+    if args.digest {
+        let mut digest = picomis::Digest::new();
+        estimates.pixels.iter().for_each(|e| digest.push(e));
+        println!("hdr-digest {}", digest.value());
+    }
 
     let secs = batch.elapsed.as_secs_f64();
     let (n_light, n_bsdf) = settings.technique_samples();

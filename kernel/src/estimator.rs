@@ -8,12 +8,21 @@
 //! are kept apart, so the seed's weight and contribution images come from this one function.
 
 use crate::light::Light;
-use crate::math::{Frame, Rgb, Vec2, Vec3, finite3};
+use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::mis::Technique;
 use crate::rng::Sampler;
 use crate::scene::{Hit, Scene};
 use crate::settings::RenderSettings;
 use crate::shape::Ray;
+
+/// The largest contribution one sample may add (per channel, already divided by the technique's
+/// sample count); a larger one is dropped like a NaN or an infinity. The bound keeps every
+/// running sum finite: at most 2^16 samples per technique per camera sample and 2^32 camera
+/// samples per pixel give at most 2^48 x 1e22 ~ 2.8e36 per part, and the three parts of
+/// [`Estimate::radiance`] (emitted light is at most [`MAX_EMISSION`](crate::light::MAX_EMISSION))
+/// stay far below `f32::MAX` ~ 3.4e38. Valid scenes reach it only with emission near the
+/// maximum seen through a pdf near zero.
+pub const MAX_CONTRIBUTION: f32 = 1e22;
 
 /// One technique's share of an estimate.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -29,11 +38,12 @@ pub struct TechniqueEstimate {
 impl TechniqueEstimate {
     #[inline]
     fn add(&mut self, contribution: Rgb, weight: f32) {
-        // Never let a NaN or infinity leave the estimator.
-        if finite3(contribution) {
+        // Never let a NaN or infinity leave the estimator, nor a value that could overflow a sum.
+        let bounded = |v: f32| v.abs() <= MAX_CONTRIBUTION; // false for NaN
+        if bounded(contribution.x) && bounded(contribution.y) && bounded(contribution.z) {
             self.contribution += contribution;
             self.weight_sum += weight;
-            self.found += 1;
+            self.found = self.found.saturating_add(1);
         }
     }
 
@@ -45,7 +55,7 @@ impl TechniqueEstimate {
     fn merge(&mut self, other: &Self) {
         self.contribution += other.contribution;
         self.weight_sum += other.weight_sum;
-        self.found += other.found;
+        self.found = self.found.saturating_add(other.found);
     }
 }
 

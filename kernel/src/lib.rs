@@ -43,6 +43,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod camera;
+pub mod digest;
 pub mod error;
 pub mod estimator;
 pub mod light;
@@ -57,9 +58,10 @@ pub mod settings;
 pub mod shape;
 
 pub use camera::{Camera, CameraDesc, Film, FovAxis};
+pub use digest::{Digest, render_digest};
 pub use error::{Collection, Field, SceneError};
-pub use estimator::{Estimate, TechniqueEstimate, estimate_direct, trace};
-pub use light::{Light, LightSample, LightSelection, SphereSampling};
+pub use estimator::{Estimate, MAX_CONTRIBUTION, TechniqueEstimate, estimate_direct, trace};
+pub use light::{Light, LightSample, LightSelection, MAX_EMISSION, SphereSampling};
 pub use material::{BsdfSample, Material};
 pub use math::{Rgb, Vec2, Vec3};
 pub use mis::{Heuristic, Method, Technique};

@@ -6,6 +6,11 @@ use crate::math::{Frame, PI, Rgb, Vec2, Vec3, luminance, max0, safe_sqrt, sqrt};
 use crate::sampling::{cone_one_minus_cos, sample_uniform_cone, uniform_cone_pdf};
 use crate::shape::{Shape, SurfacePoint};
 
+/// The largest radiance (area lights) or intensity (point lights) a scene accepts, per channel:
+/// with [`MAX_CONTRIBUTION`](crate::estimator::MAX_CONTRIBUTION) it keeps every pixel's running
+/// sums finite (see there). Larger values are `SceneError::OutOfRange`.
+pub const MAX_EMISSION: f32 = 1e20;
+
 /// How points on sphere lights are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

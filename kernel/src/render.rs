@@ -20,8 +20,21 @@ use crate::settings::RenderSettings;
 pub struct RenderStats {
     /// Pixels rendered.
     pub pixels: u32,
-    /// Camera samples taken.
-    pub camera_samples: u32,
+    /// Camera samples taken (u64: a 4096x4096 film at 256 spp takes 2^32 of them).
+    pub camera_samples: u64,
+}
+
+impl RenderStats {
+    /// The statistics of `pixels` pixels at `spp` camera samples each.
+    pub fn new(pixels: u32, spp: u32) -> Self {
+        RenderStats { pixels, camera_samples: u64::from(pixels) * u64::from(spp) }
+    }
+
+    /// Adds another render's statistics (saturating: never a panic, even in a debug build).
+    pub fn add(&mut self, other: &Self) {
+        self.pixels = self.pixels.saturating_add(other.pixels);
+        self.camera_samples = self.camera_samples.saturating_add(other.camera_samples);
+    }
 }
 
 /// One camera sample of pixel `(x, y)`: box filter over the pixel's footprint.
@@ -359,8 +372,7 @@ where
         (x0..x0 + w).map(move |x| D::Color::from(tone_map(render_pixel(scene, settings, x, y).radiance())))
     });
     target.fill_contiguous(&area, colors)?;
-    let pixels = area.size.width * area.size.height;
-    Ok(RenderStats { pixels, camera_samples: pixels * settings.spp() })
+    Ok(RenderStats::new(area.size.width * area.size.height, settings.spp()))
 }
 
 /// The film as a rectangle.
@@ -397,8 +409,7 @@ where
     let mut total = RenderStats::default();
     for area in tiles(scene.film(), tile) {
         let s = render_tile(scene, settings, &area, target)?;
-        total.pixels += s.pixels;
-        total.camera_samples += s.camera_samples;
+        total.add(&s);
         on_tile(&area, &total);
     }
     Ok(total)
@@ -413,6 +424,26 @@ mod tests {
     fn srgb_formula(v: f32) -> f32 {
         let v = v.clamp(0.0, 1.0);
         255.0 * if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * powf(v, 1.0 / 2.4) - 0.055 }
+    }
+
+    #[test]
+    fn stats_of_a_large_film_do_not_overflow() {
+        // 4096 x 4096 pixels at 256 spp = 2^32 camera samples: a u32 product overflows (and
+        // panics in a debug build, where this test also runs: scripts/test.sh).
+        let side = 4096u32;
+        let tile = RenderStats::new(side * side, 256);
+        assert_eq!(tile.camera_samples, 1u64 << 32);
+        let mut total = RenderStats::default();
+        for _ in 0..4 {
+            total.add(&RenderStats::new(side * side / 4, 256));
+        }
+        assert_eq!(total, tile);
+        // The largest film (16384 x 16384) at the largest spp still fits.
+        let max = RenderStats::new(16384 * 16384, u32::MAX);
+        assert_eq!(max.camera_samples, (16384u64 * 16384) * u64::from(u32::MAX));
+        let mut sum = max;
+        sum.add(&max);
+        assert_eq!(sum.pixels, 2 * 16384 * 16384);
     }
 
     #[test]

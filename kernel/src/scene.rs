@@ -6,7 +6,7 @@ use heapless::Vec;
 
 use crate::camera::{Camera, CameraDesc, Film};
 use crate::error::{Collection, Field, SceneError};
-use crate::light::{Light, LightSample, LightSelection, SphereSampling};
+use crate::light::{Light, LightSample, LightSelection, MAX_EMISSION, SphereSampling};
 use crate::material::Material;
 use crate::math::{Rgb, Vec2, Vec3, finite3};
 use crate::sampling::{discrete_pdf, sample_discrete};
@@ -79,7 +79,7 @@ fn check_emission(c: Rgb, field: Field) -> Result<(), SceneError> {
     if !finite3(c) {
         return Err(SceneError::NonFinite(field));
     }
-    if c.min_element() < 0.0 {
+    if c.min_element() < 0.0 || c.max_element() > MAX_EMISSION {
         return Err(SceneError::OutOfRange(field));
     }
     Ok(())
