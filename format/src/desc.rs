@@ -322,7 +322,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
                 if !r.is_finite() {
                     return Err(kernel(&entry, SceneError::NonFinite(picomis::Field::Radiance)));
                 }
-                if r.min_element() < 0.0 {
+                if r.min_element() < 0.0 || r.max_element() > picomis::MAX_EMISSION {
                     return Err(kernel(&entry, SceneError::OutOfRange(picomis::Field::Radiance)));
                 }
                 lights += 1;
@@ -347,7 +347,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
         if !intensity.is_finite() {
             return Err(kernel(&entry, SceneError::NonFinite(picomis::Field::Intensity)));
         }
-        if intensity.min_element() < 0.0 {
+        if intensity.min_element() < 0.0 || intensity.max_element() > picomis::MAX_EMISSION {
             return Err(kernel(&entry, SceneError::OutOfRange(picomis::Field::Intensity)));
         }
         lights += 1;
