@@ -4,9 +4,14 @@
 # render byte for byte, and measure code size, RAM, stack and instructions per camera sample.
 #
 #   scripts/firmware.sh setup     install what is missing (rustup targets, qemu-system-arm)
-#   scripts/firmware.sh test      build all variants, run them under QEMU, compare pixels;
+#   scripts/firmware.sh test      build all variants, run them under QEMU, compare pixels and
+#                                 the digest of the f32 HDR estimates with the host's, check the
+#                                 ELFs for f64 routines and allocator symbols (scripts/symbols.sh);
 #                                 last line: "firmware: N passed, M failed"
-#   scripts/firmware.sh measure   sizes, static RAM, peak stack, instructions per camera sample
+#   scripts/firmware.sh measure   sizes, static RAM, peak stack, instructions per camera sample;
+#                                 writes firmware/budget.json and the README table from it
+#   scripts/firmware.sh budget    the same measurement, checked against firmware/budget.json
+#                                 (fails on a rise of more than 2 %; writes nothing)
 #   scripts/firmware.sh lint      cargo fmt --check and clippy -D warnings for both targets
 #
 # Environment: CARGO_TARGET_DIR (default <root>/target), PICOMIS_SIM (host renderer binary,
@@ -171,6 +176,18 @@ check_build() { # NAME TARGET FEATURES
   fi
 }
 
+# check_symbols NAME...: no f64 routine and no allocator symbol in the linked firmware.
+check_symbols() {
+  local n
+  for n in "$@"; do
+    if "$ROOT/scripts/symbols.sh" "$WORK/$n.elf" >"$WORK/$n.symbols.log" 2>&1; then
+      pass "$n: no f64 routine, no allocator symbol in the ELF"
+    else
+      fail "$n: $(head -n 3 "$WORK/$n.symbols.log")"
+    fi
+  done
+}
+
 cmd_test() {
   local start=$SECONDS scenes=("$VEACH")
   setup
@@ -194,6 +211,7 @@ cmd_test() {
   [ ${#scenes[@]} -gt 1 ] && check_render m0-lambert $M0 "" "$LAMBERT" 64 48 1 0
   check_render m0-veach-spp $M0 "" "$VEACH" 24 16 3 9
   check_build m0-board-rtt $M0 "--no-default-features --features rtt"
+  check_symbols m4-veach m4-board-rtt m0-veach m0-board-rtt
   say "firmware tests took $((SECONDS - start)) s"
   say "firmware: $PASSED passed, $FAILED failed"
   [ "$FAILED" -eq 0 ]
@@ -256,7 +274,8 @@ cmd_measure() {
   done
 
   step "measure: summary"
-  local core size board per tile stackline v t r d b u fb
+  local core size board per tile stackline v t r d b u fb figures="$WORK/figures.txt"
+  : >"$figures"
   for core in M4F M0; do
     size=m4-size board=m4-size-board n=m4-measure
     [ $core = M0 ] && size=m0-size board=m0-size-board n=m0-measure
@@ -268,7 +287,26 @@ cmd_measure() {
     say "$core: ${per:-?} instructions per camera sample (${tile:-?} with tone map and store);" \
       "board build: text $t, rodata $r, data $d, bss $b (framebuffer $fb, other RAM $((d + b + u - fb)));" \
       "stack $stackline"
+    record_figures "$figures" "$core" "$per" "$t" "$r" $((d + b + u - fb)) "${stackline%% *}"
   done
+  if [ "${1:-}" = check ]; then
+    step "budget: figures against firmware/budget.json"
+    "$ROOT/scripts/budget.sh" check "$figures"
+  else
+    step "measure: firmware/budget.json and the README table"
+    "$ROOT/scripts/budget.sh" write "$figures" && "$ROOT/scripts/budget.sh" readme
+  fi
+}
+
+# record_figures FILE CORE INSTRUCTIONS TEXT RODATA RAM STACK: one "key value" line per figure
+# (read by scripts/budget.sh).
+record_figures() {
+  local file=$1 core
+  core=$(tr '[:upper:]' '[:lower:]' <<<"$2")
+  [ -n "$3" ] && [ -n "$7" ] || die "$2: a figure is missing (instructions '$3', stack '$7')"
+  printf '%s_instructions_per_camera_sample %s\n%s_flash_text_bytes %s\n%s_rodata_bytes %s\n' \
+    "$core" "$3" "$core" "$4" "$core" "$5" >>"$file"
+  printf '%s_static_ram_bytes %s\n%s_peak_stack_bytes %s\n' "$core" "$6" "$core" "$7" >>"$file"
 }
 
 cmd_lint() {
@@ -288,9 +326,10 @@ case "${1:-}" in
   setup) setup binutils ;;
   test) cmd_test ;;
   measure) cmd_measure ;;
+  budget) cmd_measure check ;;
   lint) cmd_lint ;;
   *)
-    sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'
     exit 2
     ;;
 esac

@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 step() { printf '\n==> %s\n' "$*"; }
 
 step "toolchain: targets and components"
-rustup component add rustfmt clippy >/dev/null 2>&1 || true
+rustup component add rustfmt clippy llvm-tools >/dev/null 2>&1 || true
 installed=$(rustup target list --installed)
 for t in thumbv7em-none-eabihf thumbv6m-none-eabi; do
   grep -qx "$t" <<<"$installed" || rustup target add "$t"
@@ -28,8 +28,12 @@ if grep -rnE '\bf64\b|extern crate alloc|alloc::' kernel/src | grep -vE '^[^:]+:
 fi
 
 step "kernel cross-builds (thumbv7em-none-eabihf, thumbv6m-none-eabi; with and without defmt)"
+scripts/symbols.sh --self-test
 for t in thumbv7em-none-eabihf thumbv6m-none-eabi; do
   cargo build -p picomis --release --target "$t"
+  # The built kernel, not its source: no f64 routine, no allocator symbol (the firmware ELFs are
+  # checked the same way by scripts/firmware.sh test).
+  scripts/symbols.sh "${CARGO_TARGET_DIR:-target}/$t/release/libpicomis.rlib"
   cargo build -p picomis --release --target "$t" --features defmt
   cargo clippy -p picomis --target "$t" --features defmt -- -D warnings
 done
@@ -37,10 +41,18 @@ done
 step "docs (-D warnings)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p picomis -p picomis-format
 
+step "kernel unit tests in a debug build (overflow checks on: RenderStats of a 4096x4096 film at 256 spp)"
+cargo test -p picomis --lib
+
 step "host tests (release: the statistical suites are compute-bound)"
 cargo test --release
+
+step "README firmware table == firmware/budget.json"
+scripts/budget.sh readme --check
 
 if [ -x scripts/firmware.sh ]; then
   step "firmware under QEMU: M4F and M0+, pixels equal to the host's"
   scripts/firmware.sh test
+  step "firmware budgets: instructions per camera sample, flash text, static RAM, peak stack"
+  scripts/firmware.sh budget
 fi

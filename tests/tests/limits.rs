@@ -25,7 +25,8 @@ fn scene(radiance: f32, intensity: f32) -> Result<S, SceneError> {
     let mut s = S::new(camera(), Film::new(16, 12)?)?;
     let white = s.add_material(Material::lambertian(Rgb::splat(0.8))?)?;
     let black = s.add_material(Material::lambertian(Rgb::ZERO)?)?;
-    let floor = [Vec3::new(-3., 0., 3.), Vec3::new(3., 0., 3.), Vec3::new(3., 0., -3.), Vec3::new(-3., 0., -3.)];
+    let floor =
+        [Vec3::new(-3., 0., 3.), Vec3::new(3., 0., 3.), Vec3::new(3., 0., -3.), Vec3::new(-3., 0., -3.)];
     s.add_shape(Shape::quad(floor)?, white)?;
     let bulb = s.add_shape(Shape::sphere(Vec3::new(0.0, 0.6, 0.0), 0.3)?, black)?;
     s.add_area_light(bulb, Rgb::splat(radiance))?;

@@ -461,9 +461,10 @@ light-only and BSDF-only methods draw only their own sample), at the shading poi
 Plain numbers: the mean was asserted equal to the reference (z < 4, stderr < 2%). \
 `†`: the method cannot reach the expectation at these sample counts: finiteness asserted, the \
 mean not (`×m`: the mean was m times the reference); these are sample variances of heavy-tailed \
-estimators, far below the true ones. `no hit`: not one of its samples found light. `½`: only \
-the reachable half of the average heuristic (the technique that can find the light) was \
-asserted. `‡`: the method converges to another value by design (BSDF sampling cannot find \
+estimators, far below the true ones. `no hit`: not one of its samples found light. `½`: the \
+average heuristic is unbiased, but it gives each technique half of f, and one of the two \
+techniques (rarely or never) finds the light at these sample counts: only the other technique's \
+half (0.5 ref) was asserted, not the total. `‡`: the method converges to another value by design (BSDF sampling cannot find \
 point lights), asserted. Rows whose reference is exactly 0: every estimate of every method was \
 exactly 0 and no sample found light.";
 
