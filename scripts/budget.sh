@@ -56,8 +56,8 @@ cmd_write() {
   echo "wrote $BUDGET"
 }
 
-# Thousands separators for an integer.
-commas() { printf "%'d" "$1" 2>/dev/null || printf '%d' "$1"; }
+# A number rounded to an integer, with thousands separators (2698.6 -> 2,699).
+commas() { printf '%.0f' "$1" | sed -e ':a' -e 's/\B[0-9]\{3\}\>/,&/' -e 'ta'; }
 kib() { awk -v b="$1" 'BEGIN { printf "%.1f", b / 1024 }'; }
 
 # The generated block: table and the sentence on the targets.
@@ -71,7 +71,7 @@ table() {
   echo '| Veach scene, 1 light + 1 BSDF sample, power heuristic | Cortex-M4F | Cortex-M0 | target |'
   echo '| --- | --- | --- | --- |'
   printf '| instructions per camera sample | %s | %s | %s / %s |\n' \
-    "$(LC_ALL=C.UTF-8 commas "${m4i%.*}")" "$(LC_ALL=C.UTF-8 commas "${m0i%.*}")" \
+    "$(commas "$m4i")" "$(commas "$m0i")" \
     "$(commas $TARGET_INSTR_M4F)" "$(commas $TARGET_INSTR_M0)"
   printf '| flash text / rodata | %s / %s KiB | %s / %s KiB | %s KiB |\n' \
     "$(kib "$(value "$BUDGET" m4f_flash_text_bytes)")" "$(kib "$(value "$BUDGET" m4f_rodata_bytes)")" \
