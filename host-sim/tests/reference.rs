@@ -59,6 +59,8 @@ struct Comparison {
     overall_z: f64,
     /// RMS of the reference's measured per-pixel noise over the blocks' pixels.
     ref_rms_noise: f64,
+    /// Standard error of the measured mean per-pixel variance behind `ref_rms_noise`.
+    ref_var_se: f64,
     /// RMS of our mean image's per-pixel noise (K x SPP spp).
     ours_rms_noise: f64,
 }
@@ -113,9 +115,9 @@ fn render() -> (Vec<Renders>, Vec<bool>) {
 
 /// The reference's per-pixel noise variance averaged over the pixels of one block, from the
 /// Laplacian residual (module docs); `None` if the block has too few usable pixels.
-fn reference_variance(r: &Renders, emitter: &[bool], bx: usize, by: usize, scale: f64) -> Option<f64> {
+fn reference_variance(r: &Renders, emitter: &[bool], bx: usize, by: usize, scale: f64) -> Option<(f64, f64)> {
     let (w, h) = (r.width, r.height);
-    let (mut sum, mut n) = (0.0, 0.0);
+    let (mut sum, mut sum2, mut n) = (0.0, 0.0, 0.0);
     for y in (by * BLOCK).max(1)..((by + 1) * BLOCK).min(h - 1) {
         for x in (bx * BLOCK).max(1)..((bx + 1) * BLOCK).min(w - 1) {
             let p = y * w + x;
@@ -127,11 +129,14 @@ fn reference_variance(r: &Renders, emitter: &[bool], bx: usize, by: usize, scale
             let e = lap(&|q| r.reference[q]) - lap(&|q| scale * r.mean[q]);
             let var_ours =
                 scale * scale * (r.var_of_mean[p] + nb.iter().map(|&q| r.var_of_mean[q]).sum::<f64>() / 16.0);
-            sum += e * e - var_ours;
+            let x = (e * e - var_ours) / 1.25;
+            sum += x;
+            sum2 += x * x;
             n += 1.0;
         }
     }
-    (n >= (BLOCK * BLOCK / 2) as f64).then(|| (sum / n / 1.25).max(0.0))
+    // The per-pixel mean of the estimate and the sum of its squares (for its standard error).
+    (n >= (BLOCK * BLOCK / 2) as f64).then(|| ((sum / n).max(0.0), sum2))
 }
 
 /// Compares `scale` times picomis' image with the reference, in one channel.
@@ -140,6 +145,7 @@ fn compare(r: &Renders, emitter: &[bool], scale: f64) -> Comparison {
     let (mut zs, mut rel) = (Vec::new(), Vec::new());
     let (mut sum_ours, mut sum_ref, mut sum_var) = (0.0, 0.0, 0.0);
     let (mut ref_noise, mut ours_noise, mut noise_pixels) = (0.0, 0.0, 0.0);
+    let mut ref_x2 = 0.0;
     for by in 0..r.height / b {
         for bx in 0..r.width / b {
             let (mut o, mut re, mut v, mut n) = (0.0, 0.0, 0.0, 0.0);
@@ -157,7 +163,8 @@ fn compare(r: &Renders, emitter: &[bool], scale: f64) -> Comparison {
             if n < (b * b / 2) as f64 {
                 continue; // a block that is mostly emitter
             }
-            let Some(var_ref_pixel) = reference_variance(r, emitter, bx, by, scale) else { continue };
+            let Some((var_ref_pixel, x2)) = reference_variance(r, emitter, bx, by, scale) else { continue };
+            ref_x2 += x2;
             let var_ref = var_ref_pixel * n; // of the block's sum
             sum_ours += o;
             sum_ref += re;
@@ -180,6 +187,7 @@ fn compare(r: &Renders, emitter: &[bool], scale: f64) -> Comparison {
         overall_rel_diff: (sum_ours - sum_ref) / sum_ref,
         overall_z: (sum_ours - sum_ref) / sum_var.sqrt(),
         ref_rms_noise: (ref_noise / noise_pixels).sqrt(),
+        ref_var_se: ((ref_x2 / noise_pixels - (ref_noise / noise_pixels).powi(2)) / noise_pixels).sqrt(),
         ours_rms_noise: (ours_noise / noise_pixels).sqrt(),
     }
 }
@@ -199,7 +207,8 @@ fn veach_converges_to_the_mitsuba_reference() {
         println!(
             "veach_mis vs Mitsuba 3, channel {name} ({K} x {SPP} spp, {} 16x16 blocks without emitter \
              pixels): mean |relative difference| per block {:.4}, whole image {:+.5} (z {:+.2}), max |z| \
-             {:.2}, |z| < 3 in {:.1} % of blocks; per-pixel RMS noise: reference {:.4} (measured), ours {:.4}",
+             {:.2}, |z| < 3 in {:.1} % of blocks; per-pixel RMS noise: reference {:.4} measured (variance \
+             {:.2e} +- {:.1e}; a model scaling ours by sqrt({}/37000) would give {:.4}), ours {:.4}",
             c.blocks,
             c.mean_rel_diff,
             c.overall_rel_diff,
@@ -207,6 +216,10 @@ fn veach_converges_to_the_mitsuba_reference() {
             c.max_abs_z,
             100.0 * c.within_3,
             c.ref_rms_noise,
+            c.ref_rms_noise * c.ref_rms_noise,
+            c.ref_var_se,
+            K * SPP,
+            c.ours_rms_noise * (f64::from(K * SPP) / 37_000.0).sqrt(),
             c.ours_rms_noise
         );
         if !agrees(&c) {
