@@ -26,7 +26,8 @@
 //! with every row finished so far, so it is complete once the whole file has run):
 //! `PICOMIS_STABILITY_TABLE=/tmp/stability.md cargo test --release -p picomis-tests --test
 //! stability -- --nocapture` (a relative path is relative to `tests/`, where cargo runs the
-//! suite). docs/stability.md holds one such table with a lesson per case.
+//! suite). docs/stability.md holds one such table with a lesson per case, and the README the same
+//! rows; each group fails if a row of its run is missing from either (the figures cannot go stale).
 
 use picomis::{
     Film, Heuristic, Hit, LightSelection, Material, MaterialId, Method, Ray, RenderSettings, Rgb, Scene,
@@ -480,6 +481,23 @@ fn table(rows: &[(u32, String)]) -> String {
     t
 }
 
+/// The committed tables (docs/stability.md and the README) must hold this run's rows verbatim: the
+/// runs are deterministic, so a change that alters a figure fails here until the tables are
+/// regenerated (`PICOMIS_STABILITY_TABLE`, module docs).
+fn stale_rows(rows: &[(u32, String)]) -> Vec<String> {
+    let mut stale = Vec::new();
+    for doc in ["docs/stability.md", "README.md"] {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(doc);
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        for (_, row) in rows {
+            if !text.lines().any(|l| l == row) {
+                stale.push(format!("{doc} does not have this run's row (regenerate it): {row}"));
+            }
+        }
+    }
+    stale
+}
+
 /// Runs a group of cases, records their rows, prints them, rewrites the table file, and only
 /// then fails with every failed check of the group.
 fn run_group(group: u32, cases: Vec<Case>) {
@@ -495,6 +513,7 @@ fn run_group(group: u32, cases: Vec<Case>) {
         rows.push((id, out.row));
     }
     println!("{}", table(&rows));
+    failures.extend(stale_rows(&rows));
     {
         let mut all = TABLE.lock().unwrap_or_else(|e| e.into_inner());
         all.extend(rows);
