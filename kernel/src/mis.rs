@@ -126,7 +126,7 @@ pub enum Technique {
 }
 
 /// How the light and BSDF techniques are used and combined. `Display` writes the name,
-/// [`FromStr`](core::str::FromStr) reads it (with default parameters).
+/// [`FromStr`] reads it (with default parameters).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Method {
