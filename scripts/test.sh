@@ -44,3 +44,6 @@ if [ -x scripts/firmware.sh ]; then
   step "firmware under QEMU: M4F and M0+, pixels equal to the host's"
   scripts/firmware.sh test
 fi
+
+step "browser: the kernel as WebAssembly in headless Chromium, pixels equal to the host's"
+scripts/web.sh test

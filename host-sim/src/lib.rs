@@ -27,6 +27,7 @@ pub mod figure;
 pub mod output;
 pub mod render;
 pub mod scenes;
+pub mod serve;
 pub mod study;
 pub mod text;
 

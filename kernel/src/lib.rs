@@ -43,6 +43,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod camera;
+pub mod colormap;
 pub mod error;
 pub mod estimator;
 pub mod light;
@@ -57,6 +58,7 @@ pub mod settings;
 pub mod shape;
 
 pub use camera::{Camera, CameraDesc, Film, FovAxis};
+pub use colormap::{NO_LIGHT, weight_color};
 pub use error::{Collection, Field, SceneError};
 pub use estimator::{Estimate, TechniqueEstimate, estimate_direct, trace};
 pub use light::{Light, LightSample, LightSelection, SphereSampling};
