@@ -127,16 +127,19 @@ measure() {
   build_sim
   install_chromium
   start_server
-  local spp=32
-  page measure "scene=veach_mis&spp=$spp"
-  python3 - "$WORK/measure.json" <<'PY'
+  local spp=32 round
+  # Alternate browser and native runs, three rounds, so that both see the same machine load.
+  for round in 1 2 3; do
+    page measure "scene=veach_mis&spp=$spp"
+    python3 - "$WORK/measure.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
-print(f"browser (one Web Worker, Chromium): veach_mis {r['width']}x{r['height']}, {r['spp']} spp: "
+print(f"browser, one Web Worker: veach_mis: {r['width']}x{r['height']}, {r['spp']} spp, "
       f"{r['samples_per_second'] / 1e6:.2f} M camera samples/s")
 PY
-  say "native, 1 thread:  $(RAYON_NUM_THREADS=1 "$SIM" render veach_mis --spp $spp --out "$WORK/measure1.png" 2>&1 | tail -1)"
-  say "native, $(nproc) threads: $("$SIM" render veach_mis --spp $spp --out "$WORK/measure2.png" 2>&1 | tail -1)"
+    say "native, 1 thread:        $(RAYON_NUM_THREADS=1 "$SIM" render veach_mis --spp $spp --out "$WORK/measure1.png" 2>&1 | tail -1)"
+    say "native, $(nproc) threads:       $("$SIM" render veach_mis --spp $spp --out "$WORK/measure2.png" 2>&1 | tail -1)"
+  done
 }
 
 case "${1:-}" in
