@@ -173,6 +173,11 @@ worker.onmessage = (e) => {
 };
 
 $('controls').addEventListener('change', (e) => {
+  if (e.target.id === 'target') {
+    // Only where to stop changed: the same render goes on.
+    worker.postMessage({ type: 'target', target: Math.max(0, Math.floor(num('target', 0))) });
+    return;
+  }
   if (e.target.id === 'scene') setSceneDefaults(Number($('scene').value));
   start();
 });

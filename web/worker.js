@@ -108,6 +108,12 @@ onmessage = (e) => {
     } catch (err) {
       postMessage({ type: 'error', id: jobId, message: String(err) });
     }
+  } else if (m.type === 'target' && job) {
+    // A new stopping point for the same render: go on from where it is.
+    const stopped = job.target > 0 && wasm.spp() >= job.target;
+    job.target = m.target;
+    const id = job.id;
+    if (stopped && (job.target === 0 || wasm.spp() < job.target)) setTimeout(() => step(id), 0);
   } else if (m.type === 'stop') {
     job = null;
   }
