@@ -43,12 +43,16 @@ build() {
 
 build_sim() { cargo build --quiet --release -p picomis-sim; }
 
+# Debian's chromium (and python3, which drives it) when missing.
 install_chromium() {
-  command -v "$CHROMIUM" >/dev/null && return 0
-  say "installing chromium (apt-get)"
+  local missing=()
+  command -v "$CHROMIUM" >/dev/null || missing+=(chromium)
+  command -v python3 >/dev/null || missing+=(python3)
+  [ ${#missing[@]} -eq 0 ] && return 0
+  say "installing ${missing[*]} (apt-get)"
   as_root apt-get update -qq
   as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq -o DPkg::Lock::Timeout=600 \
-    --no-install-recommends chromium >/dev/null
+    --no-install-recommends "${missing[@]}" >/dev/null
   command -v "$CHROMIUM" >/dev/null || die "$CHROMIUM is missing after installing chromium"
 }
 
