@@ -16,6 +16,7 @@ import base64
 import fcntl
 import json
 import os
+import select
 import struct
 import subprocess
 import sys
@@ -77,8 +78,6 @@ class Browser:
         while b"\0" not in self.buf:
             if time.monotonic() > deadline:
                 raise TimeoutError("no reply from Chromium")
-            import select
-
             ready, _, _ = select.select([self.inp], [], [], 1.0)
             if ready:
                 chunk = os.read(self.inp, 1 << 20)
