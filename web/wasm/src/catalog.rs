@@ -1,9 +1,9 @@
 //! What the page can choose from: the built-in scenes, the methods, the light-selection and
 //! sphere-sampling strategies. Each list comes from its one definition (the `scenes/` folder,
-//! `picomis_format::METHOD_NAMES`, the kernel's enums); this file only names them for the page.
+//! the kernel's `Method::ALL` and enums); this file only hands them to the page.
 
 use picomis::{Heuristic, LightSelection, Method, SphereSampling};
-use picomis_format::{METHOD_NAMES, SceneFile, parse_method};
+use picomis_format::SceneFile;
 use serde_json::{Value, json};
 
 /// A built-in scene: its name and its `picomis-scene/1` text.
@@ -21,8 +21,8 @@ pub const SCENES: &[Builtin] = include!(concat!(env!("OUT_DIR"), "/builtin_scene
 /// The scene shown first.
 pub const DEFAULT_SCENE: &str = "veach_mis";
 
-/// The methods, by index, as `picomis-format` names them.
-pub const METHODS: [&str; METHOD_NAMES.len()] = METHOD_NAMES;
+/// The methods, by index: the kernel's list (each with its default parameters).
+pub const METHODS: [Method; Method::ALL.len()] = Method::ALL;
 
 /// Sphere-light sampling strategies, by index (named as `picomis-sim render --sphere-sampling`).
 pub const SPHERE_SAMPLING: [(&str, SphereSampling); 2] =
@@ -32,22 +32,17 @@ pub const SPHERE_SAMPLING: [(&str, SphereSampling); 2] =
 pub const LIGHT_SELECTION: [(&str, LightSelection); 2] =
     [("uniform", LightSelection::Uniform), ("power", LightSelection::Power)];
 
-/// The power heuristic's beta and the cutoff heuristic's alpha when the scene names neither
-/// (as `picomis-sim render`).
-pub const DEFAULT_BETA: f32 = 2.0;
-/// See [`DEFAULT_BETA`].
-pub const DEFAULT_ALPHA: f32 = 0.1;
-
-/// `m` as (index in [`METHODS`], beta, alpha): found by asking `parse_method` which name gives
-/// `m`, so the names stay defined in one place.
+/// `m` as (index in [`METHODS`], beta, alpha), with the kernel's defaults for the parameters
+/// `m` does not have.
 pub fn method_parts(m: Method) -> (usize, f32, f32) {
-    let (beta, alpha) = match m {
-        Method::Mis(Heuristic::Power { beta }) => (beta, DEFAULT_ALPHA),
-        Method::Mis(Heuristic::Cutoff { alpha }) => (DEFAULT_BETA, alpha),
-        _ => (DEFAULT_BETA, DEFAULT_ALPHA),
-    };
-    let index = METHODS.iter().position(|n| parse_method(n, beta, alpha) == Ok(m)).unwrap_or(0);
-    (index, beta, alpha)
+    let index = METHODS.iter().position(|a| a.name() == m.name()).unwrap_or(0);
+    (index, m.beta().unwrap_or(Heuristic::DEFAULT_BETA), m.alpha().unwrap_or(Heuristic::DEFAULT_ALPHA))
+}
+
+/// Method `index` of [`METHODS`] with `beta` and `alpha` where it has them, validated.
+pub fn method(index: usize, beta: f32, alpha: f32) -> Result<Method, String> {
+    let m = METHODS.get(index).ok_or_else(|| format!("no method number {index}"))?;
+    m.with_parameters(Some(beta), Some(alpha)).map_err(|e| format!("{m}: {e}"))
 }
 
 fn index_of<T: PartialEq + Default>(list: &[(&str, T)]) -> usize {
@@ -76,7 +71,7 @@ pub fn info() -> Value {
     json!({
         "scenes": scenes,
         "default_scene": SCENES.iter().position(|b| b.name == DEFAULT_SCENE).unwrap_or(0),
-        "methods": METHODS,
+        "methods": METHODS.map(|m| m.name()),
         "sphere_sampling": SPHERE_SAMPLING.map(|(n, _)| n),
         "default_sphere_sampling": index_of(&SPHERE_SAMPLING),
         "light_selection": LIGHT_SELECTION.map(|(n, _)| n),
@@ -96,12 +91,16 @@ mod tests {
             let f = SceneFile::parse(b.json, b.name).unwrap();
             assert_eq!(f.name(), b.name);
             let (i, beta, alpha) = method_parts(f.default_method());
-            assert_eq!(parse_method(METHODS[i], beta, alpha), Ok(f.default_method()), "{}", b.name);
+            assert_eq!(method(i, beta, alpha), Ok(f.default_method()), "{}", b.name);
         }
-        for (i, name) in METHODS.iter().enumerate() {
-            let m = parse_method(name, 3.0, 0.25).unwrap();
-            assert_eq!(method_parts(m).0, i, "{name}");
+        for i in 0..METHODS.len() {
+            let m = method(i, 3.0, 0.25).unwrap();
+            assert_eq!(method_parts(m), (i, m.beta().unwrap_or(2.0), m.alpha().unwrap_or(0.1)), "{m}");
         }
+        assert_eq!(method(4, 3.0, 0.25).map(|m| m.beta()), Ok(Some(3.0)));
+        assert!(
+            method(4, -1.0, 0.25).is_err() && method(6, 2.0, 1.5).is_err() && method(7, 2.0, 0.1).is_err()
+        );
         let info = info();
         assert_eq!(info["scenes"].as_array().unwrap().len(), SCENES.len());
         assert_eq!(

@@ -23,7 +23,7 @@ pub mod progressive;
 use std::cell::RefCell;
 
 use picomis::RenderSettings;
-use picomis_format::{SceneFile, parse_method};
+use picomis_format::SceneFile;
 
 use crate::catalog::{LIGHT_SELECTION, METHODS, SCENES, SPHERE_SAMPLING};
 use crate::progressive::{Progressive, colorbar};
@@ -59,8 +59,8 @@ impl Request {
         };
         let b = SCENES[pick(self.scene, SCENES.len(), "scene")?];
         let file = SceneFile::parse(b.json, b.name).map_err(|e| e.to_string())?;
-        let name = METHODS[pick(self.method, METHODS.len(), "method")?];
-        let method = parse_method(name, self.beta, self.alpha).map_err(|e| format!("{name}: {e}"))?;
+        let method = catalog::method(pick(self.method, METHODS.len(), "method")?, self.beta, self.alpha)?;
+        let name = method.name();
         let count =
             |n: u32, what: &str| u16::try_from(n).map_err(|_| format!("{n} {what} samples: too many"));
         let (n_light, n_bsdf) = (count(self.light_samples, "light")?, count(self.bsdf_samples, "BSDF")?);
