@@ -56,3 +56,6 @@ if [ -x scripts/firmware.sh ]; then
   step "firmware budgets: instructions per camera sample, flash text, static RAM, peak stack"
   scripts/firmware.sh budget
 fi
+
+step "browser: the kernel as WebAssembly in headless Chromium, pixels equal to the host's"
+scripts/web.sh test

@@ -34,6 +34,8 @@ pub enum Command {
     /// Speed against accuracy: error against time and spp per method, equal-time grids,
     /// efficiency tables (see `study` module docs).
     Study(crate::study::StudyArgs),
+    /// Serve the browser page (web/: the kernel as WebAssembly, live MIS) on a local port.
+    Serve(crate::serve::ServeArgs),
 }
 
 /// How sphere lights are sampled.
@@ -126,6 +128,7 @@ pub fn run(cli: Cli) -> Result<(), SimError> {
         Command::Render(args) => render(&args),
         Command::Figure(args) => figure(&args),
         Command::Study(args) => crate::study::run(&args),
+        Command::Serve(args) => crate::serve::run(&args),
         Command::Scenes => {
             for b in BUILTINS {
                 let film = picomis_format::SceneFile::parse(b.json, b.name)?.film();

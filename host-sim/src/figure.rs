@@ -39,35 +39,22 @@ fn methods() -> Result<Vec<Method>, SimError> {
 const BACKGROUND: [u8; 3] = [255, 255, 255];
 const INK: [u8; 3] = [20, 20, 20];
 const MUTED: [u8; 3] = [90, 90, 90];
-/// Weight-image colour of pixels where no sample of the technique found light.
-pub const NO_LIGHT: [u8; 3] = [128, 128, 128];
-
 const MARGIN: u32 = 14;
 const LABEL: u32 = 28;
 const LABEL_SIZE: f32 = 18.0;
 const MIN_PANEL_WIDTH: u32 = 300;
 
-/// Viridis (perceptually uniform, readable in grey and by colour-blind readers), sampled at
-/// 0, 1/8, ..., 1.
-const VIRIDIS: [[u8; 3]; 9] = [
-    [68, 1, 84],
-    [71, 44, 122],
-    [59, 81, 139],
-    [44, 113, 142],
-    [33, 144, 141],
-    [39, 173, 129],
-    [92, 200, 99],
-    [170, 220, 50],
-    [253, 231, 37],
-];
+/// Weight-image colour of pixels where no sample of the technique found light
+/// ([`picomis::NO_LIGHT`]).
+pub fn no_light() -> [u8; 3] {
+    let c = picomis::NO_LIGHT;
+    [c.r(), c.g(), c.b()]
+}
 
-/// False colour of a weight in [0, 1].
+/// False colour of a weight in [0, 1] ([`picomis::weight_color`]: viridis).
 pub fn weight_color(w: f32) -> [u8; 3] {
-    let t = if w.is_finite() { w.clamp(0.0, 1.0) } else { 0.0 } * 8.0;
-    let i = (t as usize).min(7);
-    let f = t - i as f32;
-    let (a, b) = (VIRIDIS[i], VIRIDIS[i + 1]);
-    [0, 1, 2].map(|k| (f32::from(a[k]) * (1.0 - f) + f32::from(b[k]) * f + 0.5) as u8)
+    let c = picomis::weight_color(w);
+    [c.r(), c.g(), c.b()]
 }
 
 fn srgb(c: Rgb) -> [u8; 3] {
@@ -159,7 +146,7 @@ pub fn compose(images: &[Estimates], caption: &[String]) -> Canvas {
     }
     let balance = &images[weights_panel()];
     let weight =
-        |t: &picomis::TechniqueEstimate| if t.found > 0 { weight_color(t.mean_weight()) } else { NO_LIGHT };
+        |t: &picomis::TechniqueEstimate| if t.found > 0 { weight_color(t.mean_weight()) } else { no_light() };
     put_panel(&mut canvas, 1, 2, "(g) weight of BSDF samples in (d)", panel(balance, |e| weight(&e.bsdf)));
     put_panel(&mut canvas, 1, 3, "(h) weight of light samples in (d)", panel(balance, |e| weight(&e.light)));
     put_panel(
@@ -209,7 +196,7 @@ fn legend(canvas: &mut Canvas, x0: u32, y0: u32, width: u32) {
         draw_text(canvas, tx - tw / 2.0, (by + bh + 7) as f32, 15.0, &s, INK);
     }
     let gy = by + bh + 34;
-    canvas.fill(i64::from(bx), i64::from(gy), 22, 18, NO_LIGHT);
+    canvas.fill(i64::from(bx), i64::from(gy), 22, 18, no_light());
     draw_text(canvas, (bx + 30) as f32, gy as f32, 15.0, "no sample of that technique found light", INK);
 
     let notes = [
@@ -233,14 +220,5 @@ mod tests {
     #[test]
     fn the_weights_shown_are_balances() {
         assert_eq!(methods().unwrap()[weights_panel()], WEIGHTS_OF);
-    }
-
-    #[test]
-    fn weight_colors_span_viridis() {
-        assert_eq!(weight_color(0.0), VIRIDIS[0]);
-        assert_eq!(weight_color(1.0), VIRIDIS[8]);
-        assert_eq!(weight_color(0.5), VIRIDIS[4]);
-        assert_eq!(weight_color(f32::NAN), VIRIDIS[0]);
-        assert_ne!(weight_color(0.5), NO_LIGHT);
     }
 }

@@ -14,6 +14,7 @@
 //! picomis-sim render my_scene.json --width 640 --light-samples 2 --seed 7 --out my.pfm
 //! picomis-sim render lambert_sphere --out fb.rgb565    # bytes of an RGB565 LE framebuffer
 //! picomis-sim figure --spp 32                          # the seed's MIS figure -> veach_mis_figure.png
+//! picomis-sim serve                                    # the browser page (web/) at http://127.0.0.1:8000/
 //! ```
 //!
 //! Built-in scenes are built with their own capacities (`Scene<S, L, M>` from their counts, as a
@@ -27,6 +28,7 @@ pub mod figure;
 pub mod output;
 pub mod render;
 pub mod scenes;
+pub mod serve;
 pub mod study;
 pub mod text;
 

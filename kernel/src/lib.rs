@@ -43,6 +43,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod camera;
+pub mod colormap;
 pub mod digest;
 pub mod error;
 pub mod estimator;
@@ -60,6 +61,7 @@ pub mod settings;
 pub mod shape;
 
 pub use camera::{Camera, CameraDesc, Film, FovAxis};
+pub use colormap::{NO_LIGHT, weight_color};
 pub use digest::{Digest, render_digest};
 pub use error::{Collection, Field, SceneError};
 pub use estimator::{Estimate, MAX_CONTRIBUTION, TechniqueEstimate, estimate_direct, trace};
