@@ -56,7 +56,7 @@ pub mod status {
 
 #[entry]
 fn main() -> ! {
-    let code = run();
+    let code = if cfg!(feature = "softfloat-check") { crate::fpcheck::run() } else { run() };
     finish(code)
 }
 

@@ -10,8 +10,22 @@
 #![cfg_attr(target_os = "none", no_main)]
 
 /// A host build (`cargo build --workspace`) gets this stub; the firmware needs `--target`.
+/// `picomis-firmware softfloat-digest` prints the host's digests of the soft-float check
+/// (see fpcheck.rs), which `scripts/firmware.sh test` compares with the firmware's.
 #[cfg(not(target_os = "none"))]
 fn main() {
+    if std::env::args().nth(1).as_deref() == Some("softfloat-digest") {
+        let d = fpcheck::digests();
+        println!(
+            "softfloat digest: {} pairs, add {} sub {} mul {} cmp {}",
+            fpcheck::PAIRS,
+            d.add,
+            d.sub,
+            d.mul,
+            d.cmp
+        );
+        return;
+    }
     eprintln!(
         "picomis-firmware runs on a microcontroller: build it in firmware/ (target thumbv7em-none-eabihf \
          by default) or with --target thumbv6m-none-eabi; see firmware/README.md"
@@ -43,10 +57,14 @@ use defmt_rtt as _;
 mod app;
 #[cfg(target_os = "none")]
 mod clock;
+mod fpcheck;
 #[cfg(all(target_os = "none", feature = "measure"))]
 mod measure;
 #[cfg(all(target_os = "none", feature = "qemu"))]
 mod semihosting;
+// Hand-written soft float for Arm cores without an FPU (thumbv6m: Cortex-M0).
+#[cfg(all(target_os = "none", target_arch = "arm", target_abi = "eabi"))]
+mod softfloat;
 #[cfg(target_os = "none")]
 mod stack;
 #[cfg(all(target_os = "none", not(feature = "rtt"), feature = "qemu"))]
