@@ -140,6 +140,38 @@ check_render() {
   fi
 }
 
+# The host's digests of the soft-float check (firmware/src/fpcheck.rs), computed by the
+# firmware crate's host stub with the host's own f32; sets SOFTFLOAT_HOST.
+SOFTFLOAT_HOST=
+prepare_softfloat_host() {
+  if (cd "$ROOT" && CARGO_TARGET_DIR="$TD" cargo build --release --quiet -p picomis-firmware); then
+    SOFTFLOAT_HOST=$("$TD/release/picomis-firmware" softfloat-digest)
+  else
+    say "could not build the firmware's host stub (picomis-firmware)"
+  fi
+}
+
+# check_softfloat NAME TARGET: builds the softfloat-check firmware, which runs the soft-float
+# routines on the operand pairs of fpcheck.rs and compares each result with compiler-builtins
+# (exit status 6 on a mismatch), and compares its digest line with the host's.
+check_softfloat() {
+  local name=$1 target=$2 line
+  if ! build "$name" "$target" "--features softfloat-check" "$VEACH" 8 8 1 0; then
+    fail "$name: build ($target softfloat-check)"
+    return
+  fi
+  run_qemu "$name" "$target"
+  local rc=$?
+  line=$(grep -m1 '^softfloat digest:' "$WORK/$name.log")
+  if [ $rc -ne 0 ]; then
+    fail "$name: QEMU exit status $rc: $(grep -m3 '^softfloat' "$WORK/$name.log" | tr '\n' ' ')"
+  elif [ -z "$SOFTFLOAT_HOST" ] || [ "$line" != "$SOFTFLOAT_HOST" ]; then
+    fail "$name: soft-float digests differ: target '$line', host '$SOFTFLOAT_HOST'"
+  else
+    pass "$name: $target soft float == compiler-builtins (bit for bit) and == host f32 ($line)"
+  fi
+}
+
 check_build() { # NAME TARGET FEATURES
   if build "$1" "$2" "$3" "$VEACH" 64 48 1 0; then
     pass "$1: $2 $3 builds"
@@ -154,6 +186,7 @@ cmd_test() {
   [ -f "$ROOT/$LAMBERT" ] && scenes+=("$LAMBERT")
   step "firmware: host renderer (picomis-sim, release)"
   prepare_host_sim
+  prepare_softfloat_host
   step "firmware: builds, QEMU runs and host comparison (work dir $WORK)"
   # Cortex-M4F, 160x120.
   check_render m4-veach $M4 "" "$VEACH" 160 120 1 0
@@ -161,7 +194,8 @@ cmd_test() {
   [ ${#scenes[@]} -gt 1 ] && check_render m4-lambert $M4 "" "$LAMBERT" 160 120 1 0
   check_render m4-veach-spp $M4 "" "$VEACH" 48 32 3 7
   check_build m4-board-rtt $M4 "--no-default-features --features rtt"
-  # Cortex-M0, 64x48 (16 KiB RAM).
+  # Cortex-M0, 64x48 (16 KiB RAM); its hand-written soft float first.
+  check_softfloat m0-softfloat $M0
   check_render m0-veach $M0 "" "$VEACH" 64 48 1 0
   check_render m0-veach-rtt $M0 "--features rtt" "$VEACH" 64 48 1 0
   [ ${#scenes[@]} -gt 1 ] && check_render m0-lambert $M0 "" "$LAMBERT" 64 48 1 0

@@ -1,8 +1,9 @@
 //! picomis firmware: renders a built-in scene with the picomis kernel into an Rgb565
 //! framebuffer in static memory, tile by tile, and logs progress and statistics.
 //!
-//! Boards: STM32F405 (Cortex-M4F, `thumbv7em-none-eabihf`, QEMU `netduinoplus2`) and nRF51822
-//! (Cortex-M0, `thumbv6m-none-eabi`, QEMU `microbit`). Features: `qemu` (default: semihosting
+//! Boards: STM32F405 (Cortex-M4F, `thumbv7em-none-eabihf`, QEMU `netduinoplus2`), nRF51822
+//! (Cortex-M0, `thumbv6m-none-eabi`, QEMU `microbit`) and FE310 (RISC-V RV32IMC,
+//! `riscv32imc-unknown-none-elf`, QEMU `sifive_e`). Features: `qemu` (default: semihosting
 //! text logs, framebuffer written to the host, exit status), `rtt` (defmt logs over RTT, the
 //! kernel's defmt support), `measure` (instruction counts per camera sample with SysTick).
 //! See firmware/README.md.
@@ -55,7 +56,17 @@ use defmt_rtt as _;
 
 #[cfg(target_os = "none")]
 mod app;
-#[cfg(target_os = "none")]
+// What differs between Cortex-M and RISC-V: entry, clock, semihosting trap, stack bounds.
+#[cfg(all(target_os = "none", target_arch = "arm"))]
+#[path = "arch/cortex_m.rs"]
+mod arch;
+#[cfg(all(target_os = "none", target_arch = "riscv32"))]
+#[path = "arch/riscv.rs"]
+mod arch;
+#[cfg(all(target_os = "none", target_arch = "arm"))]
+mod clock;
+#[cfg(all(target_os = "none", target_arch = "riscv32"))]
+#[path = "arch/riscv_clock.rs"]
 mod clock;
 mod fpcheck;
 #[cfg(all(target_os = "none", feature = "measure"))]
