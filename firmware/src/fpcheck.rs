@@ -6,7 +6,8 @@
 //! near the subnormal boundary and near overflow, subnormal operands, and every pair of special
 //! values (signed zeros, infinities, quiet and signalling NaNs, extreme normals and subnormals).
 //!
-//! For each pair the add, sub, mul and the five ordered comparisons are folded into FNV-1a
+//! For each pair the add, sub, mul, the five ordered comparisons and a 64-bit integer multiply
+//! (`__aeabi_lmul`, used by the random number generator) are folded into FNV-1a
 //! digests (a NaN result counts as one canonical NaN: x86 and Arm produce different NaN bit
 //! patterns for `inf - inf`). The host computes the same digests with its own f32
 //! (`picomis-firmware softfloat-digest`) and `scripts/firmware.sh test` compares the two lines.
@@ -130,30 +131,33 @@ pub fn compare_bits(a: f32, b: f32) -> u32 {
         | u32::from(a >= b) << 4
 }
 
-/// FNV-1a digests of the results, one per operation.
+/// FNV-1a digests of the results, one per operation (`lmul`: the 64-bit integer multiply,
+/// whose hand-written `__aeabi_lmul` is checked here too).
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub struct Digests {
     pub add: u32,
     pub sub: u32,
     pub mul: u32,
     pub cmp: u32,
+    pub lmul: u32,
 }
 
 impl Digests {
     pub const fn new() -> Self {
-        Self { add: 0x811c_9dc5, sub: 0x811c_9dc5, mul: 0x811c_9dc5, cmp: 0x811c_9dc5 }
+        Self { add: 0x811c_9dc5, sub: 0x811c_9dc5, mul: 0x811c_9dc5, cmp: 0x811c_9dc5, lmul: 0x811c_9dc5 }
     }
 
     fn fold(h: u32, v: u32) -> u32 {
         v.to_le_bytes().iter().fold(h, |h, &b| (h ^ u32::from(b)).wrapping_mul(0x0100_0193))
     }
 
-    /// Adds one pair's results (add, sub and mul bits, comparison bits).
-    pub fn push(&mut self, add: u32, sub: u32, mul: u32, cmp: u32) {
+    /// Adds one pair's results (add, sub and mul bits, comparison bits, 64-bit product).
+    pub fn push(&mut self, add: u32, sub: u32, mul: u32, cmp: u32, lmul: u64) {
         self.add = Self::fold(self.add, canonical(add));
         self.sub = Self::fold(self.sub, canonical(sub));
         self.mul = Self::fold(self.mul, canonical(mul));
         self.cmp = Self::fold(self.cmp, cmp);
+        self.lmul = Self::fold(Self::fold(self.lmul, lmul as u32), (lmul >> 32) as u32);
     }
 }
 
@@ -165,9 +169,17 @@ pub fn digests() -> Digests {
     for i in 0..PAIRS {
         let (a, b) = operands(i);
         let (x, y) = (core::hint::black_box(f32::from_bits(a)), core::hint::black_box(f32::from_bits(b)));
-        d.push((x + y).to_bits(), (x - y).to_bits(), (x * y).to_bits(), compare_bits(x, y));
+        let (p, q) = wide(i, a, b);
+        let lmul = core::hint::black_box(p).wrapping_mul(core::hint::black_box(q));
+        d.push((x + y).to_bits(), (x - y).to_bits(), (x * y).to_bits(), compare_bits(x, y), lmul);
     }
     d
+}
+
+/// 64-bit operands for the integer multiply, from pair `i`'s bits.
+pub fn wide(i: u32, a: u32, b: u32) -> (u64, u64) {
+    let c = mix(a ^ i);
+    (u64::from(a) << 32 | u64::from(b), u64::from(c) << 32 | u64::from(mix(c)))
 }
 
 /// Target side: the digests of the routines linked into the firmware, and a bit-exact
@@ -183,9 +195,13 @@ pub fn run() -> u32 {
         fn __lesf2(a: f32, b: f32) -> i32;
         fn __gtsf2(a: f32, b: f32) -> i32;
         fn __gesf2(a: f32, b: f32) -> i32;
+        fn __muldi3(a: u64, b: u64) -> u64;
     }
     let d = digests();
-    info!("softfloat digest: {} pairs, add {} sub {} mul {} cmp {}", PAIRS, d.add, d.sub, d.mul, d.cmp);
+    info!(
+        "softfloat digest: {} pairs, add {} sub {} mul {} cmp {} lmul {}",
+        PAIRS, d.add, d.sub, d.mul, d.cmp, d.lmul
+    );
     let mut mismatches = 0u32;
     for i in 0..PAIRS {
         let (a, b) = operands(i);
@@ -203,6 +219,16 @@ pub fn run() -> u32 {
                     | u32::from(__gesf2(x, y) >= 0) << 4,
             ]
         };
+        let (p, q) = wide(i, a, b);
+        let (p, q) = (core::hint::black_box(p), core::hint::black_box(q));
+        // SAFETY: compiler-builtins' 64-bit multiply takes and returns plain integers.
+        let (ours64, lib64) = (p.wrapping_mul(q), unsafe { __muldi3(p, q) });
+        if ours64 != lib64 {
+            if mismatches < 8 {
+                info!("softfloat mismatch: pair {} lmul {} x {}: ours {} library {}", i, p, q, ours64, lib64);
+            }
+            mismatches += 1;
+        }
         let ours = [(x + y).to_bits(), (x - y).to_bits(), (x * y).to_bits(), compare_bits(x, y)];
         for (k, (o, l)) in ours.iter().zip(lib.iter()).enumerate() {
             if o != l {
@@ -216,6 +242,6 @@ pub fn run() -> u32 {
             }
         }
     }
-    info!("softfloat library comparison: {} mismatches in {} results", mismatches, 4 * PAIRS);
+    info!("softfloat library comparison: {} mismatches in {} results", mismatches, 5 * PAIRS);
     if mismatches == 0 { 0 } else { 6 }
 }

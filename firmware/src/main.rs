@@ -18,12 +18,13 @@ fn main() {
     if std::env::args().nth(1).as_deref() == Some("softfloat-digest") {
         let d = fpcheck::digests();
         println!(
-            "softfloat digest: {} pairs, add {} sub {} mul {} cmp {}",
+            "softfloat digest: {} pairs, add {} sub {} mul {} cmp {} lmul {}",
             fpcheck::PAIRS,
             d.add,
             d.sub,
             d.mul,
-            d.cmp
+            d.cmp,
+            d.lmul
         );
         return;
     }
@@ -68,6 +69,8 @@ mod clock;
 #[cfg(all(target_os = "none", target_arch = "riscv32"))]
 #[path = "arch/riscv_clock.rs"]
 mod clock;
+#[cfg(all(target_os = "none", feature = "measure"))]
+mod fixed_proto;
 mod fpcheck;
 #[cfg(all(target_os = "none", feature = "measure"))]
 mod measure;

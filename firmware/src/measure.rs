@@ -94,4 +94,6 @@ pub fn run(scene: &SceneT, settings: &RenderSettings, fb: &mut Fb) {
     let pixels = u64::from(w * h) * u64::from(repeat);
     let overhead = tile_instr.saturating_sub(sample_instr);
     per("render_tile: per-pixel overhead (average, tone map, store)", overhead, pixels);
+
+    crate::fixed_proto::run(scene, cal);
 }

@@ -224,48 +224,125 @@ __aeabi_fmul:
 
 @ ---------------------------------------------------------------------------------------------
 @ int __aeabi_fcmp{eq,lt,le,gt,ge}(float a, float b): 1 if the relation holds, else 0; 0 when
-@ either is NaN. Ordered keys: x >= 0 -> bits, x < 0 -> -(bits & 0x7fffffff), so +0 = -0 and
-@ signed integer order is float order.
-    .macro fcmp_keys unordered
-    movs r2, #255
-    lsls r2, r2, #24
-    lsls r3, r0, #1
-    cmp r3, r2
-    bhi \unordered
-    lsls r3, r1, #1
-    cmp r3, r2
-    bhi \unordered
-    asrs r2, r0, #31
-    lsls r0, r0, #1
-    lsrs r0, r0, #1
-    eors r0, r0, r2
-    subs r0, r0, r2
-    asrs r2, r1, #31
-    lsls r1, r1, #1
-    lsrs r1, r1, #1
-    eors r1, r1, r2
-    subs r1, r1, r2
-    cmp r0, r1
-    .endm
+@ either is NaN. Keys k(x) = x ^ ((x asr 31) lsr 1) order the floats as signed integers, except
+@ that k(-0) = -1 < k(+0) = 0 and NaNs fall outside [k(-inf), k(+inf)]: both are checked only
+@ on the path where they can change the answer.
 
-    .macro fcmp name, cond
+    .macro fbegin name
     .section .text.picomis_\name,"ax",%progbits
     .balign 2
     .global \name
     .type \name, %function
     .thumb_func
 \name:
-    fcmp_keys 2f
-    b\cond 1f
-2:  movs r0, #0
+    .endm
+
+@ r2 = k(r0), r3 = k(r1)
+    .macro fkeys
+    asrs r2, r0, #31
+    lsrs r2, r2, #1
+    eors r2, r2, r0
+    asrs r3, r1, #31
+    lsrs r3, r3, #1
+    eors r3, r3, r1
+    .endm
+
+@ Branches to \nan if r0 or r1 is a NaN (clobbers r2, r3).
+    .macro fnan nan
+    movs r2, #255
+    lsls r2, r2, #24
+    lsls r3, r0, #1
+    cmp r3, r2
+    bhi \nan
+    lsls r3, r1, #1
+    cmp r3, r2
+    bhi \nan
+    .endm
+
+@ Branches to \zero if r0 and r1 are both zeros (clobbers r2).
+    .macro fzeros zero
+    movs r2, r0
+    orrs r2, r2, r1
+    lsls r2, r2, #1
+    beq \zero
+    .endm
+
+@ a < b (\swap: b < a, for gt)
+    .macro flt name, a, b
+    fbegin \name
+    fkeys
+    cmp \a, \b
+    blt 1f
+0:  movs r0, #0
     bx lr
-1:  movs r0, #1
+1:  fnan 0b
+    fzeros 0b
+    movs r0, #1
     bx lr
     .size \name, . - \name
     .endm
 
-    fcmp __aeabi_fcmpeq, eq
-    fcmp __aeabi_fcmplt, lt
-    fcmp __aeabi_fcmple, le
-    fcmp __aeabi_fcmpgt, gt
-    fcmp __aeabi_fcmpge, ge
+@ a <= b (\swap: b <= a, for ge)
+    .macro fle name, a, b
+    fbegin \name
+    fkeys
+    cmp \a, \b
+    ble 1f
+    fzeros 2f                   @ k says >, but +0 <= -0
+0:  movs r0, #0
+    bx lr
+1:  fnan 0b
+2:  movs r0, #1
+    bx lr
+    .size \name, . - \name
+    .endm
+
+    flt __aeabi_fcmplt, r2, r3
+    flt __aeabi_fcmpgt, r3, r2
+    fle __aeabi_fcmple, r2, r3
+    fle __aeabi_fcmpge, r3, r2
+
+@ a == b: the same bits and not a NaN, or two zeros.
+    fbegin __aeabi_fcmpeq
+    cmp r0, r1
+    bne 2f
+    movs r2, #255
+    lsls r2, r2, #24
+    lsls r3, r0, #1
+    cmp r3, r2
+    bhi 0f
+1:  movs r0, #1
+    bx lr
+2:  fzeros 1b
+0:  movs r0, #0
+    bx lr
+    .size __aeabi_fcmpeq, . - __aeabi_fcmpeq
+
+@ ---------------------------------------------------------------------------------------------
+@ long long __aeabi_lmul(long long a, long long b): the low 64 bits of a * b (a in r1:r0, b in
+@ r3:r2). (al*bl) from four 16x16-bit products, plus (ah*bl + al*bh) << 32.
+    fbegin __aeabi_lmul
+    push {r4, r5, r6, lr}
+    muls r1, r2, r1             @ ah * bl (low 32 bits)
+    muls r3, r0, r3             @ al * bh
+    adds r3, r3, r1             @ cross terms, mod 2^32
+    lsrs r4, r0, #16            @ a1
+    uxth r0, r0                 @ a0
+    lsrs r5, r2, #16            @ b1
+    uxth r2, r2                 @ b0
+    movs r6, r0
+    muls r6, r5, r6             @ a0 * b1
+    muls r0, r2, r0             @ a0 * b0
+    muls r2, r4, r2             @ a1 * b0
+    muls r4, r5, r4             @ a1 * b1
+    lsls r5, r6, #16
+    lsrs r6, r6, #16
+    adds r0, r0, r5
+    adcs r4, r4, r6
+    lsls r5, r2, #16
+    lsrs r2, r2, #16
+    adds r0, r0, r5
+    adcs r4, r4, r2
+    adds r1, r4, r3
+    pop {r4, r5, r6, pc}
+    .size __aeabi_lmul, . - __aeabi_lmul
