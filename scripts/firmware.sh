@@ -280,6 +280,11 @@ cmd_measure() {
     grep '^measure:' "$WORK/$pre-measure.log"
   done
 
+  step "measure: fixed-point prototype on the M0 (Q16.16 ray-shape intersection against f32; firmware/src/fixed_proto.rs)"
+  build m0-fixed $M0 "--features fixed-proto" "$VEACH" 64 48 1 0 || die "build failed"
+  run_qemu m0-fixed $M0 || die "m0-fixed: QEMU exit status $? (log $WORK/m0-fixed.log)"
+  grep '^fixed point:' "$WORK/m0-fixed.log"
+
   step "measure: summary"
   local per tile stackline v t r d b u fb verdict
   for c in "${CORES[@]}"; do
@@ -303,7 +308,7 @@ cmd_lint() {
   local t f rc=0
   (cd "$ROOT" && cargo fmt -p picomis-firmware -- --check) || rc=1
   for t in $M4 $M0 $RV; do
-    for f in "" "--features rtt" "--no-default-features --features rtt" "--features measure" "--features softfloat-check"; do
+    for f in "" "--features rtt" "--no-default-features --features rtt" "--features measure" "--features fixed-proto" "--features softfloat-check"; do
       # shellcheck disable=SC2086
       (cd "$FW" && CARGO_TARGET_DIR="$TD" cargo clippy --quiet --profile firmware --target $t $f -- -D warnings) || rc=1
     done

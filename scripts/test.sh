@@ -10,7 +10,7 @@ step() { printf '\n==> %s\n' "$*"; }
 step "toolchain: targets and components"
 rustup component add rustfmt clippy >/dev/null 2>&1 || true
 installed=$(rustup target list --installed)
-for t in thumbv7em-none-eabihf thumbv6m-none-eabi; do
+for t in thumbv7em-none-eabihf thumbv6m-none-eabi riscv32imc-unknown-none-elf; do
   grep -qx "$t" <<<"$installed" || rustup target add "$t"
 done
 
@@ -27,8 +27,8 @@ if grep -rnE '\bf64\b|extern crate alloc|alloc::' kernel/src | grep -vE '^[^:]+:
   exit 1
 fi
 
-step "kernel cross-builds (thumbv7em-none-eabihf, thumbv6m-none-eabi; with and without defmt)"
-for t in thumbv7em-none-eabihf thumbv6m-none-eabi; do
+step "kernel cross-builds (thumbv7em-none-eabihf, thumbv6m-none-eabi, riscv32imc-unknown-none-elf; with and without defmt)"
+for t in thumbv7em-none-eabihf thumbv6m-none-eabi riscv32imc-unknown-none-elf; do
   cargo build -p picomis --release --target "$t"
   cargo build -p picomis --release --target "$t" --features defmt
   cargo clippy -p picomis --target "$t" --features defmt -- -D warnings
@@ -41,6 +41,6 @@ step "host tests (release: the statistical suites are compute-bound)"
 cargo test --release
 
 if [ -x scripts/firmware.sh ]; then
-  step "firmware under QEMU: M4F and M0+, pixels equal to the host's"
+  step "firmware under QEMU: M4F, M0 and RV32IMC, pixels equal to the host's; M0 soft float bit for bit"
   scripts/firmware.sh test
 fi

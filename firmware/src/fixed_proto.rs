@@ -1,4 +1,4 @@
-//! Fixed-point prototype for issue 11, run by the `measure` feature: the scene's ray-shape
+//! Fixed-point prototype for issue 11, run by the `fixed-proto` feature (with `measure`): the scene's ray-shape
 //! intersection (every object, nearest hit: the kernel's `Shape::intersect` loop) in Q16.16
 //! integers against the f32 path, on the camera rays of the film. It prints instructions per
 //! ray-object test for both and how often the nearest object and distance agree. Only a
@@ -176,7 +176,8 @@ impl QShape {
     }
 }
 
-const MAX_SHAPES: usize = 64;
+/// Objects the prototype takes (the Veach scene has 11).
+const MAX_SHAPES: usize = 16;
 
 fn time(f: impl FnOnce()) -> u64 {
     let t0 = clock::ticks();
@@ -212,6 +213,7 @@ fn nearest_q(shapes: &[QShape], o: Q3, d: Q3) -> Option<(usize, Q)> {
 
 /// Runs the comparison on the film's pixel-center camera rays; `cal` converts ticks to
 /// instructions (instructions, ticks).
+#[inline(never)]
 pub fn run(scene: &SceneT, cal: (u64, u64)) {
     let mut shapes = [QShape::None; MAX_SHAPES];
     let n = scene.objects().len().min(MAX_SHAPES);

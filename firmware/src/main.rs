@@ -69,7 +69,7 @@ mod clock;
 #[cfg(all(target_os = "none", target_arch = "riscv32"))]
 #[path = "arch/riscv_clock.rs"]
 mod clock;
-#[cfg(all(target_os = "none", feature = "measure"))]
+#[cfg(all(target_os = "none", feature = "fixed-proto"))]
 mod fixed_proto;
 mod fpcheck;
 #[cfg(all(target_os = "none", feature = "measure"))]

@@ -95,5 +95,6 @@ pub fn run(scene: &SceneT, settings: &RenderSettings, fb: &mut Fb) {
     let overhead = tile_instr.saturating_sub(sample_instr);
     per("render_tile: per-pixel overhead (average, tone map, store)", overhead, pixels);
 
+    #[cfg(feature = "fixed-proto")]
     crate::fixed_proto::run(scene, cal);
 }
