@@ -10,7 +10,8 @@ const SYS_WRITE: usize = 0x05;
 const SYS_EXIT_EXTENDED: usize = 0x20;
 /// ADP_Stopped_ApplicationExit.
 const APPLICATION_EXIT: usize = 0x20026;
-/// SYS_OPEN modes: "w" and "wb".
+/// SYS_OPEN modes: "w" (text, for the log) and "wb".
+#[cfg(not(feature = "rtt"))]
 const MODE_W: usize = 4;
 const MODE_WB: usize = 5;
 
@@ -50,7 +51,8 @@ pub fn write(fd: usize, data: &[u8]) -> Result<(), FileError> {
     Ok(())
 }
 
-/// A handle on the host's stdout (the special file `:tt`).
+/// A handle on the host's stdout (the special file `:tt`), for the text log.
+#[cfg(not(feature = "rtt"))]
 pub fn stdout() -> Result<usize, FileError> {
     open(b":tt\0", MODE_W)
 }
