@@ -75,7 +75,11 @@ __aeabi_fadd:
     lsls r3, r3, #8
     lsrs r3, r3, #2
     orrs r3, r3, r7             @ my
-    cmp r5, #31
+    cmp r5, #8
+    bhs 6f
+    lsrs r3, r3, r5             @ d < 8: my's low 7 bits are zero, nothing is shifted out
+    b 3f
+6:  cmp r5, #31
     bls 2f
     movs r5, #31                @ my >> 31 = 0: only the sticky bit is left
 2:  movs r1, r3
