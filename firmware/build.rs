@@ -1,5 +1,6 @@
 //! Build script of the firmware:
-//! - picks the board from the target (thumbv7em: STM32F405, thumbv6m: nRF51822 / micro:bit) and
+//! - picks the board from the target (thumbv7em: STM32F405, thumbv6m: nRF51822 / micro:bit,
+//!   riscv32: FE310 / HiFive1) and
 //!   copies its memory layout to OUT_DIR as `board-memory.x`, which the root `memory.x` includes;
 //! - turns the scene file (`PICOMIS_SCENE`, default `scenes/veach_mis.json`) into Rust with
 //!   `picomis_format::SceneFile::to_rust` (OUT_DIR/scene.rs);
@@ -23,7 +24,7 @@ struct Board {
     height: u32,
 }
 
-const BOARDS: [Board; 2] = [
+const BOARDS: [Board; 3] = [
     Board {
         name: "stm32f405",
         memory: "stm32f405.x",
@@ -32,6 +33,7 @@ const BOARDS: [Board; 2] = [
         height: 120,
     },
     Board { name: "nrf51822", memory: "nrf51822.x", qemu_machine: "microbit", width: 64, height: 48 },
+    Board { name: "fe310", memory: "fe310.x", qemu_machine: "sifive_e", width: 64, height: 48 },
 ];
 
 fn var(name: &str) -> Option<String> {
@@ -69,12 +71,13 @@ fn run() -> Result<(), BoxError> {
         Some(b) => b,
         None if target.starts_with("thumbv7em") => "stm32f405".into(),
         None if target.starts_with("thumbv6m") => "nrf51822".into(),
+        None if target.starts_with("riscv32") => "fe310".into(),
         None => return Err(format!("no default board for target {target}; set PICOMIS_BOARD").into()),
     };
     let board = BOARDS
         .iter()
         .find(|b| b.name == board_name)
-        .ok_or_else(|| format!("unknown PICOMIS_BOARD {board_name:?} (stm32f405 or nrf51822)"))?;
+        .ok_or_else(|| format!("unknown PICOMIS_BOARD {board_name:?} (stm32f405, nrf51822 or fe310)"))?;
     let memory_file = manifest.join("boards").join(board.memory);
     let memory = fs::read_to_string(&memory_file).map_err(|e| format!("{}: {e}", memory_file.display()))?;
     println!("cargo:rerun-if-changed={}", memory_file.display());

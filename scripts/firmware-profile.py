@@ -9,9 +9,12 @@ reads QEMU's execution log instead).
     scripts/firmware-profile.py qemu.log ELF [TOP]
 
 Prints executed instructions per innermost (inlined) function, per outermost function and per
-source line (addr2line -i), then the call sites of out-of-line functions. Keep the film tiny:
+source line (addr2line -i), per symbol with its calls and instructions per call (from the
+symbol table: right for assembly routines too, which have no line information), then the call
+sites of out-of-line functions. Keep the film tiny:
 the log holds one line per executed translation block. Needs arm-none-eabi-addr2line and -nm.
 """
+import bisect
 import collections
 import re
 import subprocess
@@ -30,12 +33,21 @@ def short(s):
 def main():
     log, elf = sys.argv[1], sys.argv[2]
     top = int(sys.argv[3]) if len(sys.argv) > 3 else 30
-    syms = {}
-    nm = subprocess.run(['arm-none-eabi-nm', '-C', '--defined-only', elf], capture_output=True, text=True)
+    syms, ranges = {}, []
+    nm = subprocess.run(['arm-none-eabi-nm', '-C', '-S', '--defined-only', elf], capture_output=True, text=True)
     for line in nm.stdout.splitlines():
-        p = line.split(' ', 2)
-        if len(p) == 3 and p[1] in 'tT':
-            syms[int(p[0], 16) & ~1] = p[2]
+        p = line.split(' ', 3)
+        if len(p) == 4 and p[2] in 'tTwW':
+            start = int(p[0], 16) & ~1
+            syms[start] = p[3]
+            ranges.append((start, start + int(p[1], 16), p[3]))
+    ranges.sort()
+    starts = [r[0] for r in ranges]
+
+    def symbol(a):
+        i = bisect.bisect_right(starts, a) - 1
+        return ranges[i][2] if i >= 0 and a < ranges[i][1] else '?'
+
     tb, cur, prev_last = {}, None, None
     counts, calls = collections.Counter(), collections.Counter()
     with open(log, errors='replace') as f:
@@ -84,6 +96,15 @@ def main():
         print(f'\n== {title}')
         for k, v in c.most_common(top):
             print(f'{v:12d} {100 * v / total:5.1f}%  {k}')
+    per_symbol, entered = collections.Counter(), collections.Counter()
+    for a, n in counts.items():
+        per_symbol[symbol(a)] += n
+    for (s, _), n in calls.items():
+        entered[s] += n
+    print('\n== symbol (symbol table): instructions, calls, instructions per call')
+    for k, v in per_symbol.most_common(top):
+        n = entered.get(k, 0)
+        print(f'{v:12d} {100 * v / total:5.1f}%  {n:9d} calls {v / max(n, 1):8.1f}  {short(k)}')
     print('\n== calls into out-of-line functions: callee <- call site (innermost function, line)')
     agg = collections.Counter()
     for (s, a), n in calls.items():

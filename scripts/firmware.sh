@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# picomis firmware: build for Cortex-M4F (STM32F405, QEMU netduinoplus2) and Cortex-M0
-# (nRF51822 / micro:bit, QEMU microbit), run under QEMU, compare the framebuffer with the host's
-# render byte for byte, and measure code size, RAM, stack and instructions per camera sample.
+# picomis firmware: build for Cortex-M4F (STM32F405, QEMU netduinoplus2), Cortex-M0
+# (nRF51822 / micro:bit, QEMU microbit) and RISC-V RV32IMC (FE310 / HiFive1, QEMU sifive_e), run
+# under QEMU, compare the framebuffer with the host's render byte for byte, and measure code
+# size, RAM, stack and instructions per camera sample.
 #
-#   scripts/firmware.sh setup     install what is missing (rustup targets, qemu-system-arm)
+#   scripts/firmware.sh setup     install what is missing (rustup targets, qemu-system-arm,
+#                                 qemu-system-misc for qemu-system-riscv32)
 #   scripts/firmware.sh test      build all variants, run them under QEMU, compare pixels and
 #                                 the digest of the f32 HDR estimates with the host's, check the
 #                                 ELFs for f64 routines and allocator symbols (scripts/symbols.sh);
@@ -27,6 +29,7 @@ WORK=${FIRMWARE_WORK:-$TD/firmware-work}
 QEMU_TIMEOUT=${QEMU_TIMEOUT:-180}
 M4=thumbv7em-none-eabihf
 M0=thumbv6m-none-eabi
+RV=riscv32imc-unknown-none-elf
 VEACH=scenes/veach_mis.json
 LAMBERT=scenes/lambert_sphere.json
 
@@ -48,10 +51,11 @@ setup() { # [binutils]
   local installed t missing=()
   command -v rustup >/dev/null || die "rustup is required"
   installed=$(rustup target list --installed)
-  for t in $M4 $M0; do
+  for t in $M4 $M0 $RV; do
     grep -qx "$t" <<<"$installed" || rustup target add "$t" || die "rustup target add $t failed"
   done
   command -v qemu-system-arm >/dev/null || missing+=(qemu-system-arm)
+  command -v qemu-system-riscv32 >/dev/null || missing+=(qemu-system-misc)
   if [ "${1:-}" = binutils ]; then
     command -v arm-none-eabi-size >/dev/null || missing+=(binutils-arm-none-eabi)
   fi
@@ -59,9 +63,11 @@ setup() { # [binutils]
     apt_install "${missing[@]}" || die "could not install ${missing[*]}"
   fi
   command -v qemu-system-arm >/dev/null || die "qemu-system-arm is missing"
+  command -v qemu-system-riscv32 >/dev/null || die "qemu-system-riscv32 is missing"
 }
 
-machine_of() { case "$1" in $M4) echo netduinoplus2 ;; $M0) echo microbit ;; esac; }
+machine_of() { case "$1" in $M4) echo netduinoplus2 ;; $M0) echo microbit ;; $RV) echo sifive_e ;; esac; }
+qemu_of() { case "$1" in $RV) echo qemu-system-riscv32 ;; *) echo qemu-system-arm ;; esac; }
 
 # build NAME TARGET FEATURES-ARGS SCENE W H SPP SEED: builds one variant, copies its ELF to
 # $WORK/NAME.elf. FEATURES-ARGS is e.g. "", "--features rtt", "--no-default-features --features rtt".
@@ -84,7 +90,7 @@ run_qemu() {
   local name=$1 target=$2
   shift 2
   rm -f "$WORK/$name.rgb565"
-  (cd "$WORK" && timeout "$QEMU_TIMEOUT" qemu-system-arm -machine "$(machine_of "$target")" -nographic \
+  (cd "$WORK" && timeout "$QEMU_TIMEOUT" "$(qemu_of "$target")" -machine "$(machine_of "$target")" -nographic \
     -monitor none -serial null -semihosting-config enable=on,target=native -icount shift=0 "$@" \
     -kernel "$name.elf") >"$WORK/$name.log" 2>&1
 }
@@ -168,6 +174,38 @@ builtin_scenes() {
   [ -n "$SIM" ] && "$SIM" scenes | awk 'NF {print $1}'
 }
 
+# The host's digests of the soft-float check (firmware/src/fpcheck.rs), computed by the
+# firmware crate's host stub with the host's own f32; sets SOFTFLOAT_HOST.
+SOFTFLOAT_HOST=
+prepare_softfloat_host() {
+  if (cd "$ROOT" && CARGO_TARGET_DIR="$TD" cargo build --release --quiet -p picomis-firmware); then
+    SOFTFLOAT_HOST=$("$TD/release/picomis-firmware" softfloat-digest)
+  else
+    say "could not build the firmware's host stub (picomis-firmware)"
+  fi
+}
+
+# check_softfloat NAME TARGET: builds the softfloat-check firmware, which runs the soft-float
+# routines on the operand pairs of fpcheck.rs and compares each result with compiler-builtins
+# (exit status 6 on a mismatch), and compares its digest line with the host's.
+check_softfloat() {
+  local name=$1 target=$2 line
+  if ! build "$name" "$target" "--features softfloat-check" "$VEACH" 8 8 1 0; then
+    fail "$name: build ($target softfloat-check)"
+    return
+  fi
+  run_qemu "$name" "$target"
+  local rc=$?
+  line=$(grep -m1 '^softfloat digest:' "$WORK/$name.log")
+  if [ $rc -ne 0 ]; then
+    fail "$name: QEMU exit status $rc: $(grep -m3 '^softfloat' "$WORK/$name.log" | tr '\n' ' ')"
+  elif [ -z "$SOFTFLOAT_HOST" ] || [ "$line" != "$SOFTFLOAT_HOST" ]; then
+    fail "$name: soft-float digests differ: target '$line', host '$SOFTFLOAT_HOST'"
+  else
+    pass "$name: $target soft float == compiler-builtins (bit for bit) and == host f32 ($line)"
+  fi
+}
+
 check_build() { # NAME TARGET FEATURES
   if build "$1" "$2" "$3" "$VEACH" 64 48 1 0; then
     pass "$1: $2 $3 builds"
@@ -194,6 +232,7 @@ cmd_test() {
   [ -f "$ROOT/$LAMBERT" ] && scenes+=("$LAMBERT")
   step "firmware: host renderer (picomis-sim, release)"
   prepare_host_sim
+  prepare_softfloat_host
   step "firmware: builds, QEMU runs and host comparison (work dir $WORK)"
   # Cortex-M4F, 160x120.
   check_render m4-veach $M4 "" "$VEACH" 160 120 1 0
@@ -205,22 +244,29 @@ cmd_test() {
     check_render "m4-scene-$b" $M4 "" "scenes/$b.json" 40 30 2 5
   done
   check_build m4-board-rtt $M4 "--no-default-features --features rtt"
-  # Cortex-M0, 64x48 (16 KiB RAM).
+  # Cortex-M0, 64x48 (16 KiB RAM); its hand-written soft float first.
+  check_softfloat m0-softfloat $M0
   check_render m0-veach $M0 "" "$VEACH" 64 48 1 0
   check_render m0-veach-rtt $M0 "--features rtt" "$VEACH" 64 48 1 0
   [ ${#scenes[@]} -gt 1 ] && check_render m0-lambert $M0 "" "$LAMBERT" 64 48 1 0
   check_render m0-veach-spp $M0 "" "$VEACH" 24 16 3 9
   check_build m0-board-rtt $M0 "--no-default-features --features rtt"
-  check_symbols m4-veach m4-board-rtt m0-veach m0-board-rtt
+  # RISC-V RV32IMC, 64x48 (FE310: 16 KiB RAM).
+  check_render rv-veach $RV "" "$VEACH" 64 48 1 0
+  check_render rv-veach-rtt $RV "--features rtt" "$VEACH" 64 48 1 0
+  [ ${#scenes[@]} -gt 1 ] && check_render rv-lambert $RV "" "$LAMBERT" 64 48 1 0
+  check_build rv-board-rtt $RV "--no-default-features --features rtt"
+  check_symbols m4-veach m4-board-rtt m0-veach m0-board-rtt rv-veach rv-board-rtt
   say "firmware tests took $((SECONDS - start)) s"
   say "firmware: $PASSED passed, $FAILED failed"
   [ "$FAILED" -eq 0 ]
 }
 
-# Section sizes of an ELF: prints "vector text rodata data bss uninit".
+# Section sizes of an ELF: prints "vector text rodata data bss uninit" (rodata includes the
+# RISC-V build's .eh_frame, which is in flash too). arm-none-eabi-size reads RISC-V ELFs too.
 sections() {
   arm-none-eabi-size -A "$1" | awk '
-    $1==".vector_table"{v=$2} $1==".text"{t=$2} $1==".rodata"{r=$2} $1==".data"{d=$2}
+    $1==".vector_table"{v=$2} $1==".text"{t=$2} $1==".rodata"||$1==".eh_frame"{r+=$2} $1==".data"{d=$2}
     $1==".bss"{b=$2} $1==".uninit"{u=$2}
     END{printf "%d %d %d %d %d %d\n", v, t, r, d, b, u}'
 }
@@ -241,50 +287,64 @@ report_size() { # NAME TARGET LABEL
     "$3" "$t" "$r" "$v" $((v + t + r + d)) "$d" "$b" "$fb" "$ram"
 }
 
+# The cores measured: label, build-name prefix, target, film, instruction target per camera sample.
+CORES=("M4F m4 $M4 160x120 2000" "M0 m0 $M0 64x48 20000" "RV32IMC rv $RV 64x48 20000")
+
 cmd_measure() {
   setup binutils
+  local c core pre target film goal n
   step "measure: builds (profile firmware: lto fat, codegen-units 1)"
-  build m4-size $M4 "" "$VEACH" 160 120 1 0 || die "build failed"
-  build m4-size-board $M4 "--no-default-features --features rtt" "$VEACH" 160 120 1 0 || die "build failed"
-  build m0-size $M0 "" "$VEACH" 64 48 1 0 || die "build failed"
-  build m0-size-board $M0 "--no-default-features --features rtt" "$VEACH" 64 48 1 0 || die "build failed"
-  # Instruction counts: the Veach scene at 64x48, 1 spp, on both cores (the same work).
-  build m4-measure $M4 "--features measure" "$VEACH" 64 48 1 0 || die "build failed"
-  build m0-measure $M0 "--features measure" "$VEACH" 64 48 1 0 || die "build failed"
+  for c in "${CORES[@]}"; do
+    read -r core pre target film goal <<<"$c"
+    build "$pre-size" "$target" "" "$VEACH" "${film%x*}" "${film#*x}" 1 0 || die "build failed"
+    build "$pre-size-board" "$target" "--no-default-features --features rtt" "$VEACH" "${film%x*}" "${film#*x}" 1 0 ||
+      die "build failed"
+    # Instruction counts: the Veach scene at 64x48, 1 spp, on every core (the same work).
+    build "$pre-measure" "$target" "--features measure" "$VEACH" 64 48 1 0 || die "build failed"
+  done
 
   step "measure: size (bytes; targets: text <= 32768, RAM besides the framebuffer <= 4096)"
-  report_size m4-size $M4 "M4F qemu (semihosting text) 160x120"
-  report_size m4-size-board $M4 "M4F board (defmt-rtt) 160x120"
-  report_size m0-size $M0 "M0 qemu (semihosting text) 64x48"
-  report_size m0-size-board $M0 "M0 board (defmt-rtt) 64x48"
+  for c in "${CORES[@]}"; do
+    read -r core pre target film goal <<<"$c"
+    report_size "$pre-size" "$target" "$core qemu (semihosting text) $film"
+    report_size "$pre-size-board" "$target" "$core board (defmt-rtt) $film"
+  done
 
   step "measure: peak stack (stack painting; target <= 4096 bytes)"
-  local n
-  for n in m4-size m0-size m4-measure m0-measure; do
-    local target=$M4
-    [[ $n == m0-* ]] && target=$M0
-    run_qemu "$n" "$target" || die "$n: QEMU exit status $? (log $WORK/$n.log)"
-    printf '%-12s %s\n' "$n" "$(grep -m1 '^stack peak:' "$WORK/$n.log")"
+  for c in "${CORES[@]}"; do
+    read -r core pre target film goal <<<"$c"
+    for n in "$pre-size" "$pre-measure"; do
+      run_qemu "$n" "$target" || die "$n: QEMU exit status $? (log $WORK/$n.log)"
+      printf '%-12s %s\n' "$n" "$(grep -m1 '^stack peak:' "$WORK/$n.log")"
+    done
   done
 
-  step "measure: instructions per camera sample (Veach, 1 light + 1 BSDF sample, power heuristic; targets M4F <= 2000, M0 <= 20000)"
-  for n in m4-measure m0-measure; do
-    say "-- $n"
-    grep '^measure:' "$WORK/$n.log"
+  step "measure: instructions per camera sample (Veach, 1 light + 1 BSDF sample, power heuristic)"
+  for c in "${CORES[@]}"; do
+    read -r core pre target film goal <<<"$c"
+    say "-- $pre-measure ($core)"
+    grep '^measure:' "$WORK/$pre-measure.log"
   done
+
+  step "measure: fixed-point prototype on the M0 (Q16.16 ray-shape intersection against f32; firmware/src/fixed_proto.rs)"
+  build m0-fixed $M0 "--features fixed-proto" "$VEACH" 64 48 1 0 || die "build failed"
+  run_qemu m0-fixed $M0 || die "m0-fixed: QEMU exit status $? (log $WORK/m0-fixed.log)"
+  grep '^fixed point:' "$WORK/m0-fixed.log"
 
   step "measure: summary"
-  local core size board per tile stackline v t r d b u fb figures="$WORK/figures.txt"
+  local per tile stackline v t r d b u fb verdict figures="$WORK/figures.txt"
   : >"$figures"
-  for core in M4F M0; do
-    size=m4-size board=m4-size-board n=m4-measure
-    [ $core = M0 ] && size=m0-size board=m0-size-board n=m0-measure
-    per=$(sed -n 's/^measure: camera_sample: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$n.log")
-    tile=$(sed -n 's/^measure: render_tile: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$n.log")
-    stackline=$(sed -n 's/^stack peak: \(.*\)/\1/p' "$WORK/$size.log")
-    read -r v t r d b u < <(sections "$WORK/$board.elf")
-    fb=$(symbol_size "$WORK/$board.elf" FRAMEBUFFER)
-    say "$core: ${per:-?} instructions per camera sample (${tile:-?} with tone map and store);" \
+  for c in "${CORES[@]}"; do
+    read -r core pre target film goal <<<"$c"
+    per=$(sed -n 's/^measure: camera_sample: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-measure.log")
+    tile=$(sed -n 's/^measure: render_tile: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-measure.log")
+    stackline=$(sed -n 's/^stack peak: \(.*\)/\1/p' "$WORK/$pre-size.log")
+    read -r v t r d b u < <(sections "$WORK/$pre-size-board.elf")
+    fb=$(symbol_size "$WORK/$pre-size-board.elf" FRAMEBUFFER)
+    verdict="over the target"
+    awk -v p="${per:-1e99}" -v g="$goal" 'BEGIN{exit !(p <= g)}' && verdict="within the target"
+    say "$core: ${per:-?} instructions per camera sample, target $goal: $verdict" \
+      "(${tile:-?} with tone map and store);" \
       "board build: text $t, rodata $r, data $d, bss $b (framebuffer $fb, other RAM $((d + b + u - fb)));" \
       "stack $stackline"
     record_figures "$figures" "$core" "$per" "$t" "$r" $((d + b + u - fb)) "${stackline%% *}"
@@ -313,8 +373,8 @@ cmd_lint() {
   setup
   local t f rc=0
   (cd "$ROOT" && cargo fmt -p picomis-firmware -- --check) || rc=1
-  for t in $M4 $M0; do
-    for f in "" "--features rtt" "--no-default-features --features rtt" "--features measure"; do
+  for t in $M4 $M0 $RV; do
+    for f in "" "--features rtt" "--no-default-features --features rtt" "--features measure" "--features fixed-proto" "--features softfloat-check"; do
       # shellcheck disable=SC2086
       (cd "$FW" && CARGO_TARGET_DIR="$TD" cargo clippy --quiet --profile firmware --target $t $f -- -D warnings) || rc=1
     done

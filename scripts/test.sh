@@ -10,7 +10,7 @@ step() { printf '\n==> %s\n' "$*"; }
 step "toolchain: targets and components"
 rustup component add rustfmt clippy llvm-tools >/dev/null 2>&1 || true
 installed=$(rustup target list --installed)
-for t in thumbv7em-none-eabihf thumbv6m-none-eabi; do
+for t in thumbv7em-none-eabihf thumbv6m-none-eabi riscv32imc-unknown-none-elf; do
   grep -qx "$t" <<<"$installed" || rustup target add "$t"
 done
 
@@ -27,9 +27,9 @@ if grep -rnE '\bf64\b|extern crate alloc|alloc::' kernel/src | grep -vE '^[^:]+:
   exit 1
 fi
 
-step "kernel cross-builds (thumbv7em-none-eabihf, thumbv6m-none-eabi; with and without defmt)"
+step "kernel cross-builds (thumbv7em-none-eabihf, thumbv6m-none-eabi, riscv32imc-unknown-none-elf; with and without defmt)"
 scripts/symbols.sh --self-test
-for t in thumbv7em-none-eabihf thumbv6m-none-eabi; do
+for t in thumbv7em-none-eabihf thumbv6m-none-eabi riscv32imc-unknown-none-elf; do
   cargo build -p picomis --release --target "$t"
   # The built kernel, not its source: no f64 routine, no allocator symbol (the firmware ELFs are
   # checked the same way by scripts/firmware.sh test).
@@ -51,7 +51,7 @@ step "README firmware table == firmware/budget.json"
 scripts/budget.sh readme --check
 
 if [ -x scripts/firmware.sh ]; then
-  step "firmware under QEMU: M4F and M0+, pixels equal to the host's"
+  step "firmware under QEMU: M4F, M0 and RV32IMC, pixels equal to the host's; M0 soft float bit for bit"
   scripts/firmware.sh test
   step "firmware budgets: instructions per camera sample, flash text, static RAM, peak stack"
   scripts/firmware.sh budget

@@ -1,8 +1,9 @@
 //! picomis firmware: renders a built-in scene with the picomis kernel into an Rgb565
 //! framebuffer in static memory, tile by tile, and logs progress and statistics.
 //!
-//! Boards: STM32F405 (Cortex-M4F, `thumbv7em-none-eabihf`, QEMU `netduinoplus2`) and nRF51822
-//! (Cortex-M0, `thumbv6m-none-eabi`, QEMU `microbit`). Features: `qemu` (default: semihosting
+//! Boards: STM32F405 (Cortex-M4F, `thumbv7em-none-eabihf`, QEMU `netduinoplus2`), nRF51822
+//! (Cortex-M0, `thumbv6m-none-eabi`, QEMU `microbit`) and FE310 (RISC-V RV32IMC,
+//! `riscv32imc-unknown-none-elf`, QEMU `sifive_e`). Features: `qemu` (default: semihosting
 //! text logs, framebuffer written to the host, exit status), `rtt` (defmt logs over RTT, the
 //! kernel's defmt support), `measure` (instruction counts per camera sample with SysTick).
 //! See firmware/README.md.
@@ -10,8 +11,23 @@
 #![cfg_attr(target_os = "none", no_main)]
 
 /// A host build (`cargo build --workspace`) gets this stub; the firmware needs `--target`.
+/// `picomis-firmware softfloat-digest` prints the host's digests of the soft-float check
+/// (see fpcheck.rs), which `scripts/firmware.sh test` compares with the firmware's.
 #[cfg(not(target_os = "none"))]
 fn main() {
+    if std::env::args().nth(1).as_deref() == Some("softfloat-digest") {
+        let d = fpcheck::digests();
+        println!(
+            "softfloat digest: {} pairs, add {} sub {} mul {} cmp {} lmul {}",
+            fpcheck::PAIRS,
+            d.add,
+            d.sub,
+            d.mul,
+            d.cmp,
+            d.lmul
+        );
+        return;
+    }
     eprintln!(
         "picomis-firmware runs on a microcontroller: build it in firmware/ (target thumbv7em-none-eabihf \
          by default) or with --target thumbv6m-none-eabi; see firmware/README.md"
@@ -41,14 +57,30 @@ use defmt_rtt as _;
 
 #[cfg(target_os = "none")]
 mod app;
-#[cfg(target_os = "none")]
+// What differs between Cortex-M and RISC-V: entry, clock, semihosting trap, stack bounds.
+#[cfg(all(target_os = "none", target_arch = "arm"))]
+#[path = "arch/cortex_m.rs"]
+mod arch;
+#[cfg(all(target_os = "none", target_arch = "riscv32"))]
+#[path = "arch/riscv.rs"]
+mod arch;
+#[cfg(all(target_os = "none", target_arch = "arm"))]
+mod clock;
+#[cfg(all(target_os = "none", target_arch = "riscv32"))]
+#[path = "arch/riscv_clock.rs"]
 mod clock;
 #[cfg(all(target_os = "none", feature = "qemu"))]
 mod digest;
+#[cfg(all(target_os = "none", feature = "fixed-proto"))]
+mod fixed_proto;
+mod fpcheck;
 #[cfg(all(target_os = "none", feature = "measure"))]
 mod measure;
 #[cfg(all(target_os = "none", feature = "qemu"))]
 mod semihosting;
+// Hand-written soft float for Arm cores without an FPU (thumbv6m: Cortex-M0).
+#[cfg(all(target_os = "none", target_arch = "arm", target_abi = "eabi"))]
+mod softfloat;
 #[cfg(target_os = "none")]
 mod stack;
 #[cfg(all(target_os = "none", not(feature = "rtt"), feature = "qemu"))]

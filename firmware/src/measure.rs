@@ -14,17 +14,10 @@ use picomis::RenderSettings;
 use crate::app::{Fb, config, scene::SceneT};
 use crate::clock;
 
-/// Iterations of the calibration loop (two instructions each).
-const CALIBRATION_LOOPS: u32 = 8_000_000;
+use crate::arch::{SPIN_INSTRUCTIONS, spin};
 
-/// Runs `n` iterations of `subs; bne`: exactly 2n instructions (plus a few to enter).
-#[inline(never)]
-fn spin(n: u32) {
-    // SAFETY: register-only loop.
-    unsafe {
-        core::arch::asm!("2:", "subs r0, #1", "bne 2b", inout("r0") n => _, options(nomem, nostack));
-    }
-}
+/// Iterations of the calibration loop (`SPIN_INSTRUCTIONS` instructions each).
+const CALIBRATION_LOOPS: u32 = 8_000_000;
 
 fn time(f: impl FnOnce()) -> u64 {
     let t0 = clock::ticks();
@@ -45,7 +38,7 @@ fn per(what: &str, num: u64, den: u64) {
 
 pub fn run(scene: &SceneT, settings: &RenderSettings, fb: &mut Fb) {
     let cal_ticks = time(|| spin(black_box(CALIBRATION_LOOPS)));
-    let cal = (2 * u64::from(CALIBRATION_LOOPS), cal_ticks.max(1));
+    let cal = (SPIN_INSTRUCTIONS * u64::from(CALIBRATION_LOOPS), cal_ticks.max(1));
     info!(
         "measure: calibration {} instructions = {} ticks (f_cpu ~ {} kHz)",
         cal.0,
@@ -101,4 +94,7 @@ pub fn run(scene: &SceneT, settings: &RenderSettings, fb: &mut Fb) {
     let pixels = u64::from(w * h) * u64::from(repeat);
     let overhead = tile_instr.saturating_sub(sample_instr);
     per("render_tile: per-pixel overhead (average, tone map, store)", overhead, pixels);
+
+    #[cfg(feature = "fixed-proto")]
+    crate::fixed_proto::run(scene, cal);
 }

@@ -1,21 +1,14 @@
 //! Peak stack use by stack painting: cortex-m-rt (feature `paint-stack`) fills the stack region
-//! with 0xCCCCCCCC before `main`; the lowest word no longer holding the pattern marks the
-//! high-water mark.
+//! with 0xCCCCCCCC before `main` (on RISC-V, `arch::init` does it at the start of `main`); the
+//! lowest word no longer holding the pattern marks the high-water mark.
 
 use core::ptr;
 
 const PAINT: u32 = 0xCCCC_CCCC;
 
-unsafe extern "C" {
-    /// Top of the stack (initial SP), from cortex-m-rt's link.x.
-    static _stack_start: u32;
-    /// Lowest address the stack may reach (end of static RAM), from link.x.
-    static _stack_end: u32;
-}
-
 /// Stack region: (bottom, top) addresses.
 pub fn region() -> (usize, usize) {
-    (ptr::addr_of!(_stack_end) as usize, ptr::addr_of!(_stack_start) as usize)
+    crate::arch::stack_region()
 }
 
 /// Bytes of stack used so far (high-water mark), and the stack region's size.
@@ -38,8 +31,8 @@ const REPAINT_MARGIN: usize = 256;
 #[inline(never)]
 pub fn repaint() {
     let (bottom, _) = region();
-    cortex_m::interrupt::free(|_| {
-        let sp = cortex_m::register::msp::read() as usize;
+    crate::arch::without_interrupts(|| {
+        let sp = crate::arch::stack_pointer();
         let end = sp.saturating_sub(REPAINT_MARGIN) & !3;
         let mut p = bottom;
         while p < end {

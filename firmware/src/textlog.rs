@@ -2,13 +2,12 @@
 //! flash): `info!("a {} b {}", x, s)` splits the literal at each `{}` and writes the arguments
 //! (integers and strings) in order, one SYS_WRITE per line.
 
-use core::cell::Cell;
+use core::sync::atomic::{AtomicUsize, Ordering};
 
-use cortex_m::interrupt::{self, Mutex};
-use cortex_m_semihosting::hio::{self, HostStream};
+use crate::semihosting;
 
-/// The host's stdout, opened on first use.
-static STDOUT: Mutex<Cell<Option<HostStream>>> = Mutex::new(Cell::new(None));
+/// The host's stdout handle plus one, opened on first use (0: not open yet).
+static STDOUT: AtomicUsize = AtomicUsize::new(0);
 
 /// A value `info!` can print.
 pub trait Arg {
@@ -94,12 +93,12 @@ pub fn print(fmt: &str, args: &[&dyn Arg]) {
     }
     line.push(rest);
     line.push(b"\n");
-    interrupt::free(|cs| {
-        let cell = STDOUT.borrow(cs);
-        let stream = cell.get().or_else(|| hio::hstdout().ok());
-        cell.set(stream);
-        if let Some(mut out) = stream {
-            let _ = out.write_all(&line.buf[..line.len]);
-        }
-    });
+    // Only `main` logs (no exception handler does), so a plain load and store suffice.
+    let fd = match STDOUT.load(Ordering::Relaxed) {
+        0 => semihosting::stdout().ok().inspect(|&fd| STDOUT.store(fd + 1, Ordering::Relaxed)),
+        h => Some(h - 1),
+    };
+    if let Some(fd) = fd {
+        let _ = semihosting::write(fd, &line.buf[..line.len]);
+    }
 }

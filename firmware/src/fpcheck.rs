@@ -1,0 +1,247 @@
+//! Bit-exactness check of the soft-float routines (`softfloat-check` feature).
+//!
+//! A deterministic list of operand pairs, about a fifth of them random bit patterns and the rest
+//! built to hit the hard cases: alignment shifts of 0 to 33 binades (sticky bits), near and
+//! exact cancellation, short significands (exact ties in sums and products, both parities), products
+//! near the subnormal boundary and near overflow, subnormal operands, and every pair of special
+//! values (signed zeros, infinities, quiet and signalling NaNs, extreme normals and subnormals).
+//!
+//! For each pair the add, sub, mul, the five ordered comparisons and a 64-bit integer multiply
+//! (`__aeabi_lmul`, used by the random number generator) are folded into FNV-1a
+//! digests (a NaN result counts as one canonical NaN: x86 and Arm produce different NaN bit
+//! patterns for `inf - inf`). The host computes the same digests with its own f32
+//! (`picomis-firmware softfloat-digest`) and `scripts/firmware.sh test` compares the two lines.
+//! On the target the check also compares every result, NaN bits included, with
+//! compiler-builtins' own routines and counts the mismatches.
+
+/// Operand pairs checked.
+pub const PAIRS: u32 = 1 << 17;
+
+/// Special values: signed zeros, infinities, NaNs (quiet, signalling, with payloads), the
+/// extreme subnormals and normals, and values around 1 and the rounding boundary.
+const SPECIALS: [u32; 24] = [
+    0x0000_0000,
+    0x8000_0000,
+    0x7f80_0000,
+    0xff80_0000,
+    0x7fc0_0000,
+    0xffc0_0001,
+    0x7f80_0001,
+    0xffbf_ffff,
+    0x0000_0001,
+    0x807f_ffff,
+    0x0040_0000,
+    0x0080_0000,
+    0x8080_0001,
+    0x7f7f_ffff,
+    0xff7f_fffe,
+    0x3f80_0000,
+    0xbf80_0000,
+    0x3f80_0001,
+    0x3fff_ffff,
+    0x4b00_0000,
+    0x3380_0000,
+    0x3400_0000,
+    0x1f80_0000,
+    0x5f80_0000,
+];
+
+/// A 32-bit integer hash (lowbias32).
+fn mix(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^ (x >> 16)
+}
+
+/// `bits` with its exponent field replaced by `e` (0..=255).
+fn with_exponent(bits: u32, e: u32) -> u32 {
+    (bits & 0x807f_ffff) | ((e & 0xff) << 23)
+}
+
+/// Operand pair number `i` (bit patterns).
+pub fn operands(i: u32) -> (u32, u32) {
+    let r0 = mix(i.wrapping_mul(3).wrapping_add(0x9e37_79b9));
+    let r1 = mix(r0 ^ 0x68e3_1da4);
+    let r2 = mix(r1 ^ 0xb529_7a4d);
+    let ea = (r0 >> 23) & 0xff;
+    match i % 10 {
+        // Any bit patterns.
+        0 | 1 => (r0, r1),
+        // b 0..=33 binades below a: alignment shifts, sticky bits, cancellation when the signs
+        // differ.
+        2 | 3 => {
+            let a = with_exponent(r0, 1 + ea % 254);
+            let eb = ((a >> 23) & 0xff).saturating_sub(r2 % 34).max(1);
+            (a, with_exponent(r1, eb))
+        }
+        // Near and exact cancellation: b = -(a + k ulps), k in -2..=2.
+        4 => {
+            let a = with_exponent(r0, 1 + ea % 254);
+            let b = (a ^ 0x8000_0000).wrapping_add(r1 % 5).wrapping_sub(2);
+            if r2 & 1 == 0 { (a, b) } else { (b, a) }
+        }
+        // Short significands (12 fraction bits): exact ties in sums and products. Half of them
+        // are a + (half an ulp of a), a tie, with both parities of a.
+        5 => {
+            let a = with_exponent(r0 & 0xffff_f800, 30 + ea % 196);
+            let b = if r2 & 1 == 0 {
+                with_exponent(r1 & 0xffff_f800, ((a >> 23) & 0xff) - (r2 >> 1) % 26)
+            } else {
+                with_exponent(r1 & 0x8000_0000, ((a >> 23) & 0xff) - 24)
+            };
+            (a, b)
+        }
+        // Products near the subnormal boundary (ea + eb - 127 in -30..=3) and near overflow
+        // (in 250..=258).
+        6 => {
+            let a = with_exponent(r0, 40 + ea % 180);
+            let ea = (a >> 23) & 0xff;
+            let target = if r2 & 1 == 0 { 97 + (r2 >> 1) % 34 } else { 377 + (r2 >> 1) % 9 };
+            let eb = target.saturating_sub(ea).clamp(1, 254);
+            if r2 & 2 == 0 { (a, with_exponent(r1, eb)) } else { (with_exponent(r1, eb), a) }
+        }
+        // Subnormal and tiny operands (exponent fields 0..=3).
+        7 => (r0 & 0x81ff_ffff, r1 & 0x81ff_ffff),
+        // A special value with a random one.
+        8 => {
+            let s = SPECIALS[(r2 % SPECIALS.len() as u32) as usize];
+            if r2 & 0x100 == 0 { (s, r1) } else { (r1, s) }
+        }
+        // Two special values.
+        _ => {
+            let n = SPECIALS.len() as u32;
+            (SPECIALS[(r1 % n) as usize], SPECIALS[(r2 % n) as usize])
+        }
+    }
+}
+
+/// One NaN for all: x86 and Arm give different NaN bit patterns.
+pub fn canonical(bits: u32) -> u32 {
+    if (bits << 1) > 0xff00_0000 { 0x7fc0_0000 } else { bits }
+}
+
+/// The five ordered comparisons as bits: eq, lt, le, gt, ge.
+pub fn compare_bits(a: f32, b: f32) -> u32 {
+    u32::from(a == b)
+        | u32::from(a < b) << 1
+        | u32::from(a <= b) << 2
+        | u32::from(a > b) << 3
+        | u32::from(a >= b) << 4
+}
+
+/// FNV-1a digests of the results, one per operation (`lmul`: the 64-bit integer multiply,
+/// whose hand-written `__aeabi_lmul` is checked here too).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub struct Digests {
+    pub add: u32,
+    pub sub: u32,
+    pub mul: u32,
+    pub cmp: u32,
+    pub lmul: u32,
+}
+
+impl Digests {
+    pub const fn new() -> Self {
+        Self { add: 0x811c_9dc5, sub: 0x811c_9dc5, mul: 0x811c_9dc5, cmp: 0x811c_9dc5, lmul: 0x811c_9dc5 }
+    }
+
+    fn fold(h: u32, v: u32) -> u32 {
+        v.to_le_bytes().iter().fold(h, |h, &b| (h ^ u32::from(b)).wrapping_mul(0x0100_0193))
+    }
+
+    /// Adds one pair's results (add, sub and mul bits, comparison bits, 64-bit product).
+    pub fn push(&mut self, add: u32, sub: u32, mul: u32, cmp: u32, lmul: u64) {
+        self.add = Self::fold(self.add, canonical(add));
+        self.sub = Self::fold(self.sub, canonical(sub));
+        self.mul = Self::fold(self.mul, canonical(mul));
+        self.cmp = Self::fold(self.cmp, cmp);
+        self.lmul = Self::fold(Self::fold(self.lmul, lmul as u32), (lmul >> 32) as u32);
+    }
+}
+
+/// Digests of this machine's f32 operations (the host's reference; on the target, the
+/// routines under test).
+#[inline(never)]
+pub fn digests() -> Digests {
+    let mut d = Digests::new();
+    for i in 0..PAIRS {
+        let (a, b) = operands(i);
+        let (x, y) = (core::hint::black_box(f32::from_bits(a)), core::hint::black_box(f32::from_bits(b)));
+        let (p, q) = wide(i, a, b);
+        let lmul = core::hint::black_box(p).wrapping_mul(core::hint::black_box(q));
+        d.push((x + y).to_bits(), (x - y).to_bits(), (x * y).to_bits(), compare_bits(x, y), lmul);
+    }
+    d
+}
+
+/// 64-bit operands for the integer multiply, from pair `i`'s bits.
+pub fn wide(i: u32, a: u32, b: u32) -> (u64, u64) {
+    let c = mix(a ^ i);
+    (u64::from(a) << 32 | u64::from(b), u64::from(c) << 32 | u64::from(mix(c)))
+}
+
+/// Target side: the digests of the routines linked into the firmware, and a bit-exact
+/// comparison with compiler-builtins' own routines.
+#[cfg(target_os = "none")]
+pub fn run() -> u32 {
+    unsafe extern "C" {
+        fn __addsf3(a: f32, b: f32) -> f32;
+        fn __subsf3(a: f32, b: f32) -> f32;
+        fn __mulsf3(a: f32, b: f32) -> f32;
+        fn __eqsf2(a: f32, b: f32) -> i32;
+        fn __ltsf2(a: f32, b: f32) -> i32;
+        fn __lesf2(a: f32, b: f32) -> i32;
+        fn __gtsf2(a: f32, b: f32) -> i32;
+        fn __gesf2(a: f32, b: f32) -> i32;
+        fn __muldi3(a: u64, b: u64) -> u64;
+    }
+    let d = digests();
+    info!(
+        "softfloat digest: {} pairs, add {} sub {} mul {} cmp {} lmul {}",
+        PAIRS, d.add, d.sub, d.mul, d.cmp, d.lmul
+    );
+    let mut mismatches = 0u32;
+    for i in 0..PAIRS {
+        let (a, b) = operands(i);
+        let (x, y) = (core::hint::black_box(f32::from_bits(a)), core::hint::black_box(f32::from_bits(b)));
+        // SAFETY: compiler-builtins' soft-float routines take and return plain f32 values.
+        let lib = unsafe {
+            [
+                __addsf3(x, y).to_bits(),
+                __subsf3(x, y).to_bits(),
+                __mulsf3(x, y).to_bits(),
+                u32::from(__eqsf2(x, y) == 0)
+                    | u32::from(__ltsf2(x, y) < 0) << 1
+                    | u32::from(__lesf2(x, y) <= 0) << 2
+                    | u32::from(__gtsf2(x, y) > 0) << 3
+                    | u32::from(__gesf2(x, y) >= 0) << 4,
+            ]
+        };
+        let (p, q) = wide(i, a, b);
+        let (p, q) = (core::hint::black_box(p), core::hint::black_box(q));
+        // SAFETY: compiler-builtins' 64-bit multiply takes and returns plain integers.
+        let (ours64, lib64) = (p.wrapping_mul(q), unsafe { __muldi3(p, q) });
+        if ours64 != lib64 {
+            if mismatches < 8 {
+                info!("softfloat mismatch: pair {} lmul {} x {}: ours {} library {}", i, p, q, ours64, lib64);
+            }
+            mismatches += 1;
+        }
+        let ours = [(x + y).to_bits(), (x - y).to_bits(), (x * y).to_bits(), compare_bits(x, y)];
+        for (k, (o, l)) in ours.iter().zip(lib.iter()).enumerate() {
+            if o != l {
+                if mismatches < 8 {
+                    info!(
+                        "softfloat mismatch: pair {} op {} a {} b {}: ours {} library {}",
+                        i, k as u32, a, b, *o, *l
+                    );
+                }
+                mismatches += 1;
+            }
+        }
+    }
+    info!("softfloat library comparison: {} mismatches in {} results", mismatches, 5 * PAIRS);
+    if mismatches == 0 { 0 } else { 6 }
+}

@@ -1,0 +1,352 @@
+@ picomis: single-precision soft float for ARMv6-M (Thumb-1), see mod.rs.
+@ AAPCS: operands in r0, r1, result in r0; r0-r3, r12 and the flags may be clobbered.
+@ Round to nearest, ties to even. Fast paths for normal operands with a normal result; the rest
+@ goes, with the original operands, to compiler-builtins' __addsf3 / __mulsf3.
+
+    .syntax unified
+    .thumb
+
+@ ---------------------------------------------------------------------------------------------
+@ Packs and rounds a result, then falls through to the caller's epilogue \done.
+@ In: r0 bit 31 = sign, r2 = significand with its leading one at bit 31 (24 bits kept, bits
+@ 7..0 below the last kept bit), r5 = e - 1 with e the result's biased exponent, checked by the
+@ caller to be in 1..=254, \extra (optional) = more sticky bits, nonzero when anything below
+@ r2 is nonzero.
+    .macro pack_round done, extra
+    lsls r4, r5, #23            @ (e - 1) << 23: the leading one adds the last 1
+    lsrs r1, r2, #8             @ 1.f, 24 bits
+    adds r1, r1, r4
+    lsrs r0, r0, #31
+    lsls r0, r0, #31
+    adds r0, r0, r1             @ sign | exponent | fraction, truncated
+    lsls r1, r2, #25            @ C = round bit, r1 = the bits below it
+    bcc \done                   @ below half an ulp: truncated is right
+    .ifnb \extra
+    orrs r1, r1, \extra
+    .endif
+    bne 8f                      @ above half an ulp: round up
+    adds r0, r0, #1             @ exactly half: round to even (up, then clear bit 0)
+    lsrs r0, r0, #1
+    lsls r0, r0, #1
+    b \done
+8:  adds r0, r0, #1             @ a carry into the exponent is right, up to infinity
+    .endm
+
+@ ---------------------------------------------------------------------------------------------
+@ float __aeabi_fsub(float a, float b) = a + (-b)
+    .section .text.picomis_fadd,"ax",%progbits
+    .balign 4
+    .global __aeabi_fsub
+    .type __aeabi_fsub, %function
+    .thumb_func
+__aeabi_fsub:
+    movs r2, #1
+    lsls r2, r2, #31
+    eors r1, r1, r2
+    @ falls through into __aeabi_fadd
+
+@ float __aeabi_fadd(float a, float b)
+    .global __aeabi_fadd
+    .type __aeabi_fadd, %function
+    .thumb_func
+__aeabi_fadd:
+    push {r0, r1, r4, r5, r6, r7, lr}
+    movs r6, r0
+    eors r6, r6, r1             @ bit 31: the signs differ (magnitudes subtract)
+    lsls r2, r0, #1             @ X = |a| << 1
+    lsls r3, r1, #1             @ Y = |b| << 1
+    cmp r2, r3
+    bhs 1f
+    movs r0, r1                 @ r0: the operand of larger magnitude, which gives the sign
+    mov r12, r2
+    movs r2, r3
+    mov r3, r12
+1:  lsrs r4, r2, #24            @ ex, exponent of the larger
+    cmp r4, #255
+    beq .Lfadd_lib              @ infinity or NaN
+    lsrs r5, r3, #24            @ ey
+    beq .Lfadd_ysmall           @ the smaller is zero or subnormal
+    subs r5, r4, r5             @ d = ex - ey >= 0
+    movs r7, #1
+    lsls r7, r7, #30
+    lsls r2, r2, #8
+    lsrs r2, r2, #2
+    orrs r2, r2, r7             @ mx = 1.f at bits 30..7
+    lsls r3, r3, #8
+    lsrs r3, r3, #2
+    orrs r3, r3, r7             @ my
+    cmp r5, #8
+    bhs 6f
+    lsrs r3, r3, r5             @ d < 8: my's low 7 bits are zero, nothing is shifted out
+    b 3f
+6:  cmp r5, #31
+    bls 2f
+    movs r5, #31                @ my >> 31 = 0: only the sticky bit is left
+2:  movs r1, r3
+    lsrs r3, r3, r5             @ my >> d
+    movs r7, r3
+    lsls r7, r7, r5
+    cmp r7, r1
+    beq 3f
+    movs r7, #1
+    orrs r3, r3, r7             @ bits shifted out: sticky bit at bit 0
+3:  cmp r6, #0
+    blt .Lfadd_sub
+    adds r2, r2, r3             @ < 2^32
+    bmi 4f
+    lsls r2, r2, #1             @ leading one at 30 -> 31, exponent ex
+    b .Lfadd_round
+4:  adds r4, r4, #1             @ leading one at 31: exponent ex + 1
+    b .Lfadd_round
+.Lfadd_sub:
+    subs r2, r2, r3             @ >= 0, since |x| >= |y|
+    beq .Lfadd_zero
+    lsls r2, r2, #1
+    bmi .Lfadd_round            @ leading one was at 30: exponent ex
+5:  subs r4, r4, #1             @ cancellation: normalize one bit at a time
+    lsls r2, r2, #1
+    bpl 5b
+.Lfadd_round:
+    subs r5, r4, #1
+    cmp r5, #253
+    bhi .Lfadd_lib              @ subnormal or overflowing result
+    pack_round .Lfadd_done
+.Lfadd_done:
+    add sp, #8
+    pop {r4, r5, r6, r7, pc}
+.Lfadd_zero:
+    movs r0, #0                 @ x - x = +0
+    b .Lfadd_done
+.Lfadd_ysmall:
+    cmp r3, #0
+    bne .Lfadd_lib              @ subnormal
+    cmp r2, #0
+    bne .Lfadd_done             @ x + 0 = x (x finite and nonzero: r0)
+    ldr r0, [sp]
+    ldr r1, [sp, #4]
+    ands r0, r0, r1             @ 0 + 0: -0 only when both are -0
+    b .Lfadd_done
+.Lfadd_lib:
+    pop {r0, r1, r4, r5, r6, r7}
+    pop {r2}
+    mov lr, r2
+    ldr r2, 9f
+    bx r2
+    .balign 4
+9:  .word __addsf3
+    .size __aeabi_fadd, . - __aeabi_fadd
+    .size __aeabi_fsub, . - __aeabi_fsub
+
+@ ---------------------------------------------------------------------------------------------
+@ float __aeabi_fmul(float a, float b)
+    .section .text.picomis_fmul,"ax",%progbits
+    .balign 4
+    .global __aeabi_fmul
+    .type __aeabi_fmul, %function
+    .thumb_func
+__aeabi_fmul:
+    push {r0, r1, r4, r5, r6, r7, lr}
+    lsls r2, r0, #1
+    lsrs r2, r2, #24
+    subs r2, r2, #1             @ ea - 1
+    cmp r2, #253
+    bhi .Lfmul_special          @ ea is 0 or 255
+    lsls r3, r1, #1
+    lsrs r3, r3, #24
+    subs r3, r3, #1             @ eb - 1
+    cmp r3, #253
+    bhi .Lfmul_special
+    adds r4, r2, r3
+    subs r4, r4, #125           @ e = ea + eb - 127, for a product of significands in [1, 2)
+    @ 1.fa = ah * 2^16 + al, 1.fb = bh * 2^16 + bl (ah, bh: 8 bits; al, bl: 16 bits)
+    lsls r2, r0, #9
+    lsrs r2, r2, #25
+    adds r2, r2, #128           @ ah
+    lsls r5, r0, #16
+    lsrs r5, r5, #16            @ al
+    lsls r6, r1, #9
+    lsrs r6, r6, #25
+    adds r6, r6, #128           @ bh
+    lsls r7, r1, #16
+    lsrs r7, r7, #16            @ bl
+    eors r0, r0, r1             @ sign of the result in bit 31
+    movs r1, r2
+    muls r1, r7, r1             @ ah * bl
+    muls r7, r5, r7             @ al * bl
+    muls r5, r6, r5             @ al * bh
+    muls r6, r2, r6             @ ah * bh
+    adds r1, r1, r5             @ cross terms, < 2^25
+    lsls r5, r1, #16
+    lsrs r1, r1, #16
+    adds r6, r6, r1
+    movs r3, #0
+    adds r7, r7, r5             @ low word of the 48-bit product
+    adcs r6, r6, r3             @ high word, < 2^16
+    lsls r2, r6, #16
+    lsrs r3, r7, #16
+    orrs r2, r2, r3             @ product >> 16: leading one at bit 31 or 30
+    bmi 1f
+    lsls r2, r2, #1
+    b 2f
+1:  adds r4, r4, #1             @ product in [2, 4)
+2:  lsls r7, r7, #16            @ sticky: the product's low 16 bits
+    subs r5, r4, #1
+    cmp r5, #253
+    bhi .Lfmul_lib              @ subnormal or overflowing result
+    pack_round .Lfmul_done, r7
+.Lfmul_done:
+    add sp, #8
+    pop {r4, r5, r6, r7, pc}
+.Lfmul_special:
+    @ a or b is zero, subnormal, infinite or NaN (r0, r1 unchanged). 0 * finite = signed 0.
+    lsls r2, r0, #1
+    lsls r3, r1, #1
+    movs r4, #255
+    lsls r4, r4, #24            @ 0xff000000: |x| << 1 of infinity
+    cmp r2, #0
+    bne 3f
+    cmp r3, r4
+    bhs .Lfmul_lib              @ 0 * inf, 0 * NaN
+    b 4f
+3:  cmp r3, #0
+    bne .Lfmul_lib
+    cmp r2, r4
+    bhs .Lfmul_lib              @ inf * 0, NaN * 0
+4:  eors r0, r0, r1
+    lsrs r0, r0, #31
+    lsls r0, r0, #31
+    b .Lfmul_done
+.Lfmul_lib:
+    pop {r0, r1, r4, r5, r6, r7}
+    pop {r2}
+    mov lr, r2
+    ldr r2, 9f
+    bx r2
+    .balign 4
+9:  .word __mulsf3
+    .size __aeabi_fmul, . - __aeabi_fmul
+
+@ ---------------------------------------------------------------------------------------------
+@ int __aeabi_fcmp{eq,lt,le,gt,ge}(float a, float b): 1 if the relation holds, else 0; 0 when
+@ either is NaN. Keys k(x) = x ^ ((x asr 31) lsr 1) order the floats as signed integers, except
+@ that k(-0) = -1 < k(+0) = 0 and NaNs fall outside [k(-inf), k(+inf)]: both are checked only
+@ on the path where they can change the answer.
+
+    .macro fbegin name
+    .section .text.picomis_\name,"ax",%progbits
+    .balign 2
+    .global \name
+    .type \name, %function
+    .thumb_func
+\name:
+    .endm
+
+@ r2 = k(r0), r3 = k(r1)
+    .macro fkeys
+    asrs r2, r0, #31
+    lsrs r2, r2, #1
+    eors r2, r2, r0
+    asrs r3, r1, #31
+    lsrs r3, r3, #1
+    eors r3, r3, r1
+    .endm
+
+@ Branches to \nan if r0 or r1 is a NaN (clobbers r2, r3).
+    .macro fnan nan
+    movs r2, #255
+    lsls r2, r2, #24
+    lsls r3, r0, #1
+    cmp r3, r2
+    bhi \nan
+    lsls r3, r1, #1
+    cmp r3, r2
+    bhi \nan
+    .endm
+
+@ Branches to \zero if r0 and r1 are both zeros (clobbers r2).
+    .macro fzeros zero
+    movs r2, r0
+    orrs r2, r2, r1
+    lsls r2, r2, #1
+    beq \zero
+    .endm
+
+@ a < b (\swap: b < a, for gt)
+    .macro flt name, a, b
+    fbegin \name
+    fkeys
+    cmp \a, \b
+    blt 1f
+0:  movs r0, #0
+    bx lr
+1:  fnan 0b
+    fzeros 0b
+    movs r0, #1
+    bx lr
+    .size \name, . - \name
+    .endm
+
+@ a <= b (\swap: b <= a, for ge)
+    .macro fle name, a, b
+    fbegin \name
+    fkeys
+    cmp \a, \b
+    ble 1f
+    fzeros 2f                   @ k says >, but +0 <= -0
+0:  movs r0, #0
+    bx lr
+1:  fnan 0b
+2:  movs r0, #1
+    bx lr
+    .size \name, . - \name
+    .endm
+
+    flt __aeabi_fcmplt, r2, r3
+    flt __aeabi_fcmpgt, r3, r2
+    fle __aeabi_fcmple, r2, r3
+    fle __aeabi_fcmpge, r3, r2
+
+@ a == b: the same bits and not a NaN, or two zeros.
+    fbegin __aeabi_fcmpeq
+    cmp r0, r1
+    bne 2f
+    movs r2, #255
+    lsls r2, r2, #24
+    lsls r3, r0, #1
+    cmp r3, r2
+    bhi 0f
+1:  movs r0, #1
+    bx lr
+2:  fzeros 1b
+0:  movs r0, #0
+    bx lr
+    .size __aeabi_fcmpeq, . - __aeabi_fcmpeq
+
+@ ---------------------------------------------------------------------------------------------
+@ long long __aeabi_lmul(long long a, long long b): the low 64 bits of a * b (a in r1:r0, b in
+@ r3:r2). (al*bl) from four 16x16-bit products, plus (ah*bl + al*bh) << 32.
+    fbegin __aeabi_lmul
+    push {r4, r5, r6, lr}
+    muls r1, r2, r1             @ ah * bl (low 32 bits)
+    muls r3, r0, r3             @ al * bh
+    adds r3, r3, r1             @ cross terms, mod 2^32
+    lsrs r4, r0, #16            @ a1
+    uxth r0, r0                 @ a0
+    lsrs r5, r2, #16            @ b1
+    uxth r2, r2                 @ b0
+    movs r6, r0
+    muls r6, r5, r6             @ a0 * b1
+    muls r0, r2, r0             @ a0 * b0
+    muls r2, r4, r2             @ a1 * b0
+    muls r4, r5, r4             @ a1 * b1
+    lsls r5, r6, #16
+    lsrs r6, r6, #16
+    adds r0, r0, r5
+    adcs r4, r4, r6
+    lsls r5, r2, #16
+    lsrs r2, r2, #16
+    adds r0, r0, r5
+    adcs r4, r4, r2
+    adds r1, r4, r3
+    pop {r4, r5, r6, pc}
+    .size __aeabi_lmul, . - __aeabi_lmul
