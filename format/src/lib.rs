@@ -12,6 +12,7 @@
 
 mod codegen;
 mod desc;
+pub mod mitsuba;
 
 use std::fmt;
 use std::path::Path;

@@ -34,6 +34,13 @@ pub enum Command {
     /// Speed against accuracy: error against time and spp per method, equal-time grids,
     /// efficiency tables (see `study` module docs).
     Study(crate::study::StudyArgs),
+    /// Convert a Mitsuba 3 XML scene into a picomis-scene/1 file.
+    Import(crate::interop::ImportArgs),
+    /// Write a scene as Mitsuba 3 XML.
+    Export(crate::interop::ExportArgs),
+    /// Show a scene in an embedded-graphics-simulator window, refining pass by pass (needs the
+    /// `window` feature).
+    View(crate::view::ViewArgs),
 }
 
 /// How sphere lights are sampled.
@@ -121,6 +128,9 @@ pub fn run(cli: Cli) -> Result<(), SimError> {
         Command::Render(args) => render(&args),
         Command::Figure(args) => figure(&args),
         Command::Study(args) => crate::study::run(&args),
+        Command::Import(args) => crate::interop::import(&args),
+        Command::Export(args) => crate::interop::export(&args),
+        Command::View(args) => crate::view::run(&args),
         Command::Scenes => {
             for b in BUILTINS {
                 let film = picomis_format::SceneFile::parse(b.json, b.name)?.film();
