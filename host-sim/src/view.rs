@@ -29,6 +29,9 @@ pub const DEVICE_WIDTH: u32 = 160;
 /// The M4F board's display height.
 pub const DEVICE_HEIGHT: u32 = 120;
 
+/// Height of the status bar under the image in the window: three lines of the 6x10 font.
+pub const STATUS_HEIGHT: u32 = 32;
+
 /// `picomis-sim view`.
 #[derive(Debug, clap::Args)]
 pub struct ViewArgs {

@@ -168,7 +168,8 @@ impl<'a, 'input> Reader<'a, 'input> {
             let v: Vec<T> = self.numbers(node, "value", &text)?;
             match v.as_slice() {
                 &[a, b, c] => [a, b, c],
-                _ => return Err(self.error(node, format!("value {text:?}: expected 3 numbers"))),
+                &[a] => [a; 3],
+                _ => return Err(self.error(node, format!("value {text:?}: expected 1 or 3 numbers"))),
             }
         } else {
             let mut out = [default; 3];

@@ -18,13 +18,11 @@ use embedded_graphics_simulator::sdl2::{Keycode, Mod};
 use embedded_graphics_simulator::{OutputSettingsBuilder, SimulatorDisplay, SimulatorEvent, Window};
 use picomis::{Film, Scene};
 
-use super::{Action, KEYS, ViewArgs, ViewState, pass_spp, render_pass};
+use super::{Action, KEYS, STATUS_HEIGHT, ViewArgs, ViewState, pass_spp, render_pass};
 use crate::SimError;
 use crate::output::{encode_png, write_atomic};
 use crate::scenes::{Loaded, SceneVisitor};
 
-/// Height of the status bar under the image: three lines of the 6x10 font.
-pub const STATUS_HEIGHT: u32 = 32;
 /// Shortest time between two window refreshes while a pass renders.
 const REFRESH: Duration = Duration::from_millis(30);
 
@@ -183,7 +181,6 @@ impl SceneVisitor for WindowLoop<'_> {
                     let status = format!("{spp} spp, {pass_ms:.0} ms/pass");
                     draw_status(live.display, film, [&method, &format!("{}, {sampling}", state.view.label()), &status]);
                     last = Some((film_rgb(live.display, film), format!("{spp}spp")));
-                    println!("pass {pass}: {spp} spp, {pass_ms:.1} ms, {method}, {}, {sampling}", state.view.label());
                     if pass == args.passes && !live.live {
                         // Dump mode: one update, after the last pass; the simulator writes the
                         // PNG and exits the process.
@@ -191,6 +188,8 @@ impl SceneVisitor for WindowLoop<'_> {
                         return Ok(());
                     }
                     live.poll(true);
+                    // After the window shows it (tests/window.rs waits for this line).
+                    println!("pass {pass}: {spp} spp, {pass_ms:.1} ms, {method}, {}, {sampling}", state.view.label());
                 }
             } else {
                 let status = format!("{} spp, {pass_ms:.0} ms/pass, done", pass_spp(pass - 1));
