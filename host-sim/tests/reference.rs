@@ -58,10 +58,9 @@ fn lum(c: picomis::Rgb) -> f64 {
     (f64::from(c.x) + f64::from(c.y) + f64::from(c.z)) / 3.0
 }
 
-fn render() -> Renders {
+fn render(loaded: &scenes::Loaded) -> Renders {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/veach_mis.ref.exr");
     let reference = read_exr(std::path::Path::new(path)).expect("reading the reference");
-    let loaded = scenes::load(Some("veach_mis")).unwrap();
     let film = loaded.file.film();
     assert_eq!((reference.width, reference.height), (film.width(), film.height()));
     // The reference's settings: power heuristic (beta 2), 1 light + 1 BSDF sample.
@@ -141,10 +140,24 @@ fn agrees(c: &Comparison) -> bool {
 
 #[test]
 fn veach_converges_to_the_mitsuba_reference() {
-    let r = render();
+    converges(&scenes::load(Some("veach_mis")).unwrap(), "veach_mis");
+}
+
+/// The scene Mitsuba rendered, imported from its own XML (`picomis-sim import`; rectangles as
+/// `matrix` transforms), converges to the same reference.
+#[test]
+fn the_imported_mitsuba_xml_converges_to_the_reference_too() {
+    let xml = concat!(env!("CARGO_MANIFEST_DIR"), "/../format/tests/data/veach_mis.xml");
+    let json = picomis_format::mitsuba::import_file(std::path::Path::new(xml)).unwrap();
+    let file = picomis_format::SceneFile::parse(&json, "veach_mis.xml").unwrap();
+    converges(&scenes::Loaded { file, builtin: None }, "veach_mis.xml imported");
+}
+
+fn converges(loaded: &scenes::Loaded, label: &str) {
+    let r = render(loaded);
     let c = compare(&r, 1.0);
     eprintln!(
-        "veach_mis vs Mitsuba 3 reference ({K} x {SPP} spp, {} 16x16 blocks without emitter pixels): \
+        "{label} vs Mitsuba 3 reference ({K} x {SPP} spp, {} 16x16 blocks without emitter pixels): \
          mean |relative difference| per block {:.4}, overall relative difference {:+.5} (z {:+.2}), \
          max |z| {:.2}, |z| < 3 in {:.1} % of blocks",
         c.blocks,
