@@ -29,7 +29,8 @@ const SCENES: [&str; 5] = [
 
 /// The seed files: two hand-written XML files and the export of every built-in scene.
 fn seeds() -> Vec<String> {
-    let mut v = vec![include_str!("data/veach_mis.xml").to_string(), include_str!("data/transforms.xml").to_string()];
+    let mut v =
+        vec![include_str!("data/veach_mis.xml").to_string(), include_str!("data/transforms.xml").to_string()];
     v.extend(SCENES.iter().map(|s| mitsuba::export(s, "builtin").unwrap().xml));
     v
 }
@@ -52,7 +53,8 @@ fn check(text: &str, tally: usize) -> Result<(), TestCaseError> {
         }
         Ok(json) => {
             ACCEPTED[tally].fetch_add(1, Ordering::Relaxed);
-            let scene = SceneFile::parse(&json, "fuzz.json").map_err(|e| TestCaseError::fail(e.to_string()))?;
+            let scene =
+                SceneFile::parse(&json, "fuzz.json").map_err(|e| TestCaseError::fail(e.to_string()))?;
             let c = scene.counts();
             if c.shapes > 64 || c.lights > 64 || c.materials > 64 {
                 prop_assert!(scene.build::<64, 64, 64>().is_err());
@@ -71,7 +73,11 @@ fn check(text: &str, tally: usize) -> Result<(), TestCaseError> {
                     .with_sphere_sampling(spheres);
                 for (x, y) in [(0, 0), (2, 1), (3, 2)] {
                     let e = render_pixel(&built, &settings, x, y);
-                    prop_assert!(e.radiance().is_finite(), "non-finite pixel {} in an accepted file", e.radiance());
+                    prop_assert!(
+                        e.radiance().is_finite(),
+                        "non-finite pixel {} in an accepted file",
+                        e.radiance()
+                    );
                 }
             }
         }
@@ -83,7 +89,9 @@ fn check(text: &str, tally: usize) -> Result<(), TestCaseError> {
 fn arbitrary_bytes_never_panic() {
     let n = cases(2000);
     runner(n)
-        .run(&proptest::collection::vec(any::<u8>(), 0..512), |bytes| check(&String::from_utf8_lossy(&bytes), 0))
+        .run(&proptest::collection::vec(any::<u8>(), 0..512), |bytes| {
+            check(&String::from_utf8_lossy(&bytes), 0)
+        })
         .unwrap();
     println!("fuzz_mitsuba: {n} arbitrary inputs tried, {} accepted", ACCEPTED[0].load(Ordering::Relaxed));
 }
@@ -99,7 +107,8 @@ enum ByteEdit {
 fn byte_edit() -> impl Strategy<Value = ByteEdit> {
     prop_oneof![
         (any::<usize>(), any::<u8>()).prop_map(|(i, b)| ByteEdit::Flip(i, b)),
-        (any::<usize>(), prop::sample::select(b"<>/=\"'$&;-.eE0123456789 ,xyz".to_vec())).prop_map(|(i, b)| ByteEdit::Insert(i, b)),
+        (any::<usize>(), prop::sample::select(b"<>/=\"'$&;-.eE0123456789 ,xyz".to_vec()))
+            .prop_map(|(i, b)| ByteEdit::Insert(i, b)),
         (any::<usize>(), 1usize..64).prop_map(|(i, n)| ByteEdit::Delete(i, n)),
         (any::<usize>(), any::<usize>(), 1usize..160).prop_map(|(a, b, n)| ByteEdit::Splice(a, b, n)),
     ]
@@ -148,8 +157,30 @@ fn byte_mutations_of_valid_files_never_panic() {
 
 /// Values an attribute is replaced with.
 const EDGE: [&str; 24] = [
-    "0", "-0", "1", "-1", "1e-45", "1e-38", "0.5", "1.0000001", "179.99999", "180", "1e30", "3.4e38", "1e39",
-    "-1e39", "nan", "inf", "-inf", "16385", "65536", "", "x", "1, 2", "0 0 0", "$nothing",
+    "0",
+    "-0",
+    "1",
+    "-1",
+    "1e-45",
+    "1e-38",
+    "0.5",
+    "1.0000001",
+    "179.99999",
+    "180",
+    "1e30",
+    "3.4e38",
+    "1e39",
+    "-1e39",
+    "nan",
+    "inf",
+    "-inf",
+    "16385",
+    "65536",
+    "",
+    "x",
+    "1, 2",
+    "0 0 0",
+    "$nothing",
 ];
 
 #[derive(Clone, Debug)]

@@ -44,7 +44,8 @@ fn check_folder(path: &Path) -> Result<(), SimError> {
 
 /// Converts a Mitsuba 3 XML file into a picomis-scene/1 file; nothing is written on error.
 pub fn import(args: &ImportArgs) -> Result<(), SimError> {
-    let stem = args.scene.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
+    let stem =
+        args.scene.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("{stem}.json")));
     check_folder(&out)?;
     let json = mitsuba::import_file(&args.scene)?;
@@ -68,8 +69,11 @@ pub fn export(args: &ExportArgs) -> Result<(), SimError> {
     let loaded = scenes::load(Some(arg))?;
     let text = match loaded.builtin.and_then(find_builtin) {
         Some(b) => b.json.to_string(),
-        None => std::fs::read_to_string(arg)
-            .map_err(|e| LoadError { file: arg.into(), entry: "file".into(), reason: e.to_string() })?,
+        None => std::fs::read_to_string(arg).map_err(|e| LoadError {
+            file: arg.into(),
+            entry: "file".into(),
+            reason: e.to_string(),
+        })?,
     };
     let export = mitsuba::export(&text, loaded.file.file())?;
     for note in &export.notes {

@@ -12,7 +12,9 @@
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::Size;
 use embedded_graphics_core::pixelcolor::{Rgb565, Rgb888};
-use picomis::{Estimate, Heuristic, LightSelection, Method, RenderSettings, RenderStats, Scene, SphereSampling};
+use picomis::{
+    Estimate, Heuristic, LightSelection, Method, RenderSettings, RenderStats, Scene, SphereSampling,
+};
 pub use picomis_format::METHOD_NAMES;
 use picomis_format::parse_method;
 
@@ -175,10 +177,9 @@ impl ViewState {
     /// The starting state from the scene and the flags.
     pub fn new(loaded: &Loaded, args: &ViewArgs) -> Result<Self, SimError> {
         let name = args.mis.clone().unwrap_or_else(|| method_name(loaded.file.default_method()).to_string());
-        let method = METHOD_NAMES
-            .iter()
-            .position(|&m| m == name)
-            .ok_or_else(|| SimError::Usage(format!("--mis {name}: unknown method (expected {})", METHOD_NAMES.join(", "))))?;
+        let method = METHOD_NAMES.iter().position(|&m| m == name).ok_or_else(|| {
+            SimError::Usage(format!("--mis {name}: unknown method (expected {})", METHOD_NAMES.join(", ")))
+        })?;
         let (mut beta, mut alpha) = (args.beta, args.alpha);
         match loaded.file.default_method() {
             Method::Mis(Heuristic::Power { beta: b }) if args.mis.is_none() => beta = b,
@@ -201,7 +202,9 @@ impl ViewState {
             samples: loaded.file.default_samples(),
             seed: args.seed,
         };
-        state.settings(1).map_err(|e| SimError::Usage(format!("--mis {name} --beta {beta} --alpha {alpha}: {e}")))?;
+        state
+            .settings(1)
+            .map_err(|e| SimError::Usage(format!("--mis {name} --beta {beta} --alpha {alpha}: {e}")))?;
         Ok(state)
     }
 
@@ -375,7 +378,12 @@ mod tests {
         assert!(!s.apply(Action::Beta(1)), "beta does not change a cutoff render");
         assert!(s.apply(Action::Alpha(-1)));
         assert_eq!(s.alpha, 0.95);
-        let views: Vec<View> = (0..5).map(|_| { s.apply(Action::View(1)); s.view }).collect();
+        let views: Vec<View> = (0..5)
+            .map(|_| {
+                s.apply(Action::View(1));
+                s.view
+            })
+            .collect();
         assert_eq!(views.last(), Some(&View::Image));
         assert_eq!(views.len(), View::ALL.len());
         assert!(s.apply(Action::LightSelection) && s.apply(Action::SphereSampling));

@@ -11,8 +11,10 @@ const VEACH_XML: &str = include_str!("../../format/tests/data/veach_mis.xml");
 #[test]
 fn bad_xml_is_one_line_exit_2_and_writes_nothing() {
     let cases = [
-        ("<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n    <bsdf type=\"plastic\"/>\n  </shape>\n</scene>\n",
-         "error: bad.xml:3: <bsdf type=\"plastic\">: not modelled by picomis (diffuse, roughconductor)"),
+        (
+            "<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n    <bsdf type=\"plastic\"/>\n  </shape>\n</scene>\n",
+            "error: bad.xml:3: <bsdf type=\"plastic\">: not modelled by picomis (diffuse, roughconductor)",
+        ),
         ("<scene version=\"3.0.0\"><shape", "error: bad.xml:1: xml: "),
         ("", "error: bad.xml:1: xml: "),
         ("\u{feff}<scene version=\"3.0.0\"/>", "error: bad.xml:1: <scene>: no <sensor"),
@@ -71,7 +73,8 @@ fn every_builtin_scene_survives_export_and_import_bit_for_bit() {
         // Exporting the import gives the same XML again (names, values: all kept).
         run_ok(d, &["export", &format!("./{name}.json"), "--mitsuba", &format!("{name}_2.xml")]);
         // All but the header comment (which names the source file and its description).
-        let strip = |s: String| s.lines().skip_while(|l| !l.starts_with("<scene")).collect::<Vec<_>>().join("\n");
+        let strip =
+            |s: String| s.lines().skip_while(|l| !l.starts_with("<scene")).collect::<Vec<_>>().join("\n");
         let x1 = strip(std::fs::read_to_string(d.join(&xml)).unwrap());
         let x2 = strip(std::fs::read_to_string(d.join(format!("{name}_2.xml"))).unwrap());
         assert_eq!(x1, x2, "{name}");

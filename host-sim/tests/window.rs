@@ -188,7 +188,11 @@ fn the_window_shows_the_firmware_framebuffer_pixel_for_pixel() {
         }
         std::thread::sleep(Duration::from_millis(250));
     };
-    eprintln!("screenshot {} ({w}x{h}): {bad} of {} film pixels differ", shot_path.display(), w * DEVICE_HEIGHT * SCALE);
+    eprintln!(
+        "screenshot {} ({w}x{h}): {bad} of {} film pixels differ",
+        shot_path.display(),
+        w * DEVICE_HEIGHT * SCALE
+    );
     assert_eq!(bad, 0, "the window differs from `render --out F.rgb565`");
     // The status bar is drawn (text: more than one colour under the image).
     let status: std::collections::HashSet<[u8; 3]> =
@@ -198,7 +202,10 @@ fn the_window_shows_the_firmware_framebuffer_pixel_for_pixel() {
     let dir2 = tempfile::tempdir().unwrap();
     let other = {
         let (w, h) = (DEVICE_WIDTH.to_string(), DEVICE_HEIGHT.to_string());
-        common::run_ok(dir2.path(), &["render", "--spp", "1", "--width", &w, "--height", &h, "--out", "one.rgb565"]);
+        common::run_ok(
+            dir2.path(),
+            &["render", "--spp", "1", "--width", &w, "--height", &h, "--out", "one.rgb565"],
+        );
         let bytes = std::fs::read(dir2.path().join("one.rgb565")).unwrap();
         bytes
             .chunks(2)

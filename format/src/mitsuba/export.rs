@@ -49,12 +49,18 @@ fn comment(s: &str) -> String {
 
 /// Writes `scene` (parsed from `text`, which gives the names) as Mitsuba 3 XML.
 pub(crate) fn export(scene: &SceneFile, text: &str) -> Result<Export, LoadError> {
-    let value: serde_json::Value = serde_json::from_str(text)
-        .map_err(|e| LoadError { file: scene.file.clone(), entry: "file".into(), reason: e.to_string() })?;
+    let value: serde_json::Value = serde_json::from_str(text).map_err(|e| LoadError {
+        file: scene.file.clone(),
+        entry: "file".into(),
+        reason: e.to_string(),
+    })?;
     // Materials are built in the order of their sorted names (picomis-format reads them into a
     // BTreeMap), so the k-th material step has the k-th sorted name.
-    let mut material_names: Vec<String> =
-        value.get("materials").and_then(|m| m.as_object()).map(|m| m.keys().cloned().collect()).unwrap_or_default();
+    let mut material_names: Vec<String> = value
+        .get("materials")
+        .and_then(|m| m.as_object())
+        .map(|m| m.keys().cloned().collect())
+        .unwrap_or_default();
     material_names.sort();
     let entry_name = |list: &str, i: usize| -> Option<String> {
         value.get(list)?.get(i)?.get("name")?.as_str().map(str::to_string)
@@ -67,7 +73,11 @@ pub(crate) fn export(scene: &SceneFile, text: &str) -> Result<Export, LoadError>
         x.push('\n');
     };
     line("<?xml version=\"1.0\" encoding=\"utf-8\"?>".into());
-    line(format!("<!-- {}: written by picomis-sim export from {}.", comment(&scene.name), comment(&scene.file)));
+    line(format!(
+        "<!-- {}: written by picomis-sim export from {}.",
+        comment(&scene.name),
+        comment(&scene.file)
+    ));
     if !scene.description.is_empty() {
         line(format!("     {}", comment(&scene.description)));
     }
@@ -123,7 +133,10 @@ pub(crate) fn export(scene: &SceneFile, text: &str) -> Result<Export, LoadError>
     for step in &scene.steps {
         match step {
             Step::Material(m) => {
-                let id = material_names.get(materials.len()).cloned().unwrap_or_else(|| format!("material{}", materials.len()));
+                let id = material_names
+                    .get(materials.len())
+                    .cloned()
+                    .unwrap_or_else(|| format!("material{}", materials.len()));
                 materials.push(id.clone());
                 let id = esc(&id);
                 match m {
@@ -158,7 +171,12 @@ pub(crate) fn export(scene: &SceneFile, text: &str) -> Result<Export, LoadError>
                     }
                     Geometry::Quad(p) => {
                         let [p0, p1, _, p3] = p.map(|v| v.to_array().map(f64::from));
-                        line(format!("    <!-- quad p0 = [{}] p1 = [{}] p3 = [{}] -->", vec3(p[0]), vec3(p[1]), vec3(p[3])));
+                        line(format!(
+                            "    <!-- quad p0 = [{}] p1 = [{}] p3 = [{}] -->",
+                            vec3(p[0]),
+                            vec3(p[1]),
+                            vec3(p[3])
+                        ));
                         line(format!("    <shape type=\"rectangle\"{id}>"));
                         line("        <transform name=\"to_world\">".into());
                         line(format!("            <matrix value=\"{}\"/>", rectangle_matrix(p0, p1, p3)));

@@ -8,9 +8,7 @@ use std::collections::{BTreeMap, HashMap};
 use picomis::{CameraDesc, Film, FovAxis, Heuristic, Material, Method, RenderSettings, Shape, Vec3};
 use roxmltree::{Node, ParsingOptions};
 
-use super::json::{
-    CameraOut, EmitterOut, FileOut, FilmOut, IntegratorOut, MaterialOut, PointOut, ShapeOut,
-};
+use super::json::{CameraOut, EmitterOut, FileOut, FilmOut, IntegratorOut, MaterialOut, PointOut, ShapeOut};
 use super::transform::{Affine, cross, dot};
 use super::xml::{Op, PARAM_TAGS, Reader};
 use crate::{LoadError, check_camera};
@@ -36,7 +34,9 @@ pub(crate) fn import(text: &str, file: &str, name: &str) -> Result<String, LoadE
     }
     let version = r.need(root, "version")?;
     if !(version.starts_with("3.") || version.starts_with("2.")) {
-        return Err(r.error(root, format!("version {version:?}: only Mitsuba 2 and 3 scenes (\"3.0.0\") are read")));
+        return Err(
+            r.error(root, format!("version {version:?}: only Mitsuba 2 and 3 scenes (\"3.0.0\") are read"))
+        );
     }
     let elements: Vec<Node> = root.children().filter(|c| c.is_element()).collect();
     for &e in &elements {
@@ -92,7 +92,10 @@ pub(crate) fn import(text: &str, file: &str, name: &str) -> Result<String, LoadE
     }
     let (camera, film) = sensor.ok_or_else(|| r.error(root, "no <sensor type=\"perspective\">"))?;
     let integrator = integrator.ok_or_else(|| {
-        r.error(root, "no <integrator type=\"direct\"> (Mitsuba would use path tracing, which picomis does not model)")
+        r.error(
+            root,
+            "no <integrator type=\"direct\"> (Mitsuba would use path tracing, which picomis does not model)",
+        )
     })?;
     let out = FileOut {
         format: "picomis-scene/1",
@@ -224,7 +227,13 @@ fn read_integrator(r: &Reader, node: Node) -> Result<IntegratorOut, LoadError> {
     // Mitsuba's direct integrator weights its samples with the power heuristic, beta 2.
     RenderSettings::new(Method::Mis(Heuristic::Power { beta: 2.0 }), n_light, n_bsdf, 1, 0)
         .map_err(|e| r.error(node, e.to_string()))?;
-    Ok(IntegratorOut { kind: "direct", emitter_samples: n_light, bsdf_samples: n_bsdf, hide_emitters: false, mis: "power" })
+    Ok(IntegratorOut {
+        kind: "direct",
+        emitter_samples: n_light,
+        bsdf_samples: n_bsdf,
+        hide_emitters: false,
+        mis: "power",
+    })
 }
 
 fn read_sensor(r: &Reader, node: Node) -> Result<(CameraOut, FilmOut), LoadError> {
@@ -232,7 +241,9 @@ fn read_sensor(r: &Reader, node: Node) -> Result<(CameraOut, FilmOut), LoadError
         return Err(r.error(node, "not modelled by picomis (perspective)"));
     }
     let mut o = Obj::new(r, node)?;
-    let fov = o.take("fov").ok_or_else(|| r.error(node, "missing <float name=\"fov\"> (focal_length is not modelled)"))?;
+    let fov = o
+        .take("fov")
+        .ok_or_else(|| r.error(node, "missing <float name=\"fov\"> (focal_length is not modelled)"))?;
     let fov_deg = r.float(fov)?;
     let near_clip = o.take("near_clip").map(|p| r.float(p)).transpose()?.unwrap_or(0.01);
     if let Some(p) = o.take("far_clip") {
@@ -248,7 +259,9 @@ fn read_sensor(r: &Reader, node: Node) -> Result<(CameraOut, FilmOut), LoadError
         None => ([0.0; 3], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]),
         Some(t) => match r.transform(t)?.as_slice() {
             [Op::LookAt { origin, target, up }] => (*origin, *target, *up),
-            _ => return Err(r.error(t, "a sensor's to_world must be one <lookat> (nothing else is modelled)")),
+            _ => {
+                return Err(r.error(t, "a sensor's to_world must be one <lookat> (nothing else is modelled)"));
+            }
         },
     };
     let film_node = o.take_object(r, "film")?;
@@ -263,14 +276,28 @@ fn read_sensor(r: &Reader, node: Node) -> Result<(CameraOut, FilmOut), LoadError
     let fov_axis = match axis.as_ref().map(|(p, s)| (*p, s.as_str())) {
         None | Some((_, "x")) => FovAxis::X,
         Some((_, "y")) => FovAxis::Y,
-        Some((_, "smaller")) => if film.0 <= film.1 { FovAxis::X } else { FovAxis::Y },
-        Some((_, "larger")) => if film.0 >= film.1 { FovAxis::X } else { FovAxis::Y },
+        Some((_, "smaller")) => {
+            if film.0 <= film.1 {
+                FovAxis::X
+            } else {
+                FovAxis::Y
+            }
+        }
+        Some((_, "larger")) => {
+            if film.0 >= film.1 {
+                FovAxis::X
+            } else {
+                FovAxis::Y
+            }
+        }
         Some((p, other)) => {
             return Err(r.error(p, format!("fov_axis {other:?} is not modelled (x, y, smaller, larger)")));
         }
     };
-    let film_value = Film::new(film.0, film.1).map_err(|e| r.error(film_node.unwrap_or(node), e.to_string()))?;
-    let desc = CameraDesc { origin: v3(origin), target: v3(target), up: v3(up), fov_deg, fov_axis, near_clip };
+    let film_value =
+        Film::new(film.0, film.1).map_err(|e| r.error(film_node.unwrap_or(node), e.to_string()))?;
+    let desc =
+        CameraDesc { origin: v3(origin), target: v3(target), up: v3(up), fov_deg, fov_axis, near_clip };
     check_camera(desc, film_value).map_err(|e| r.error(node, e.to_string()))?;
     let camera = CameraOut {
         kind: "perspective",
@@ -332,7 +359,10 @@ fn read_film(r: &Reader, node: Node) -> Result<(u32, u32), LoadError> {
 fn read_sampler(r: &Reader, node: Node) -> Result<(), LoadError> {
     let known = ["independent", "stratified", "multijitter", "orthogonal", "ldsampler"];
     if !known.contains(&kind(r, node)?.as_str()) {
-        return Err(r.error(node, "not modelled by picomis (independent, stratified, multijitter, orthogonal, ldsampler)"));
+        return Err(r.error(
+            node,
+            "not modelled by picomis (independent, stratified, multijitter, orthogonal, ldsampler)",
+        ));
     }
     let mut o = Obj::new(r, node)?;
     for key in ["sample_count", "seed"] {
@@ -378,7 +408,8 @@ fn bsdf(r: &Reader, node: Node) -> Result<MaterialOut, LoadError> {
                 }
             }
             let alpha = o.take("alpha").map(|p| r.float(p)).transpose()?.unwrap_or(0.1);
-            let reflectance = o.take("specular_reflectance").map(|p| r.color(p)).transpose()?.unwrap_or([1.0; 3]);
+            let reflectance =
+                o.take("specular_reflectance").map(|p| r.color(p)).transpose()?.unwrap_or([1.0; 3]);
             // Visible-normal sampling changes the noise, not the expected image.
             if let Some(p) = o.take("sample_visible") {
                 r.boolean(p)?;
@@ -419,7 +450,10 @@ fn read_shape(r: &Reader, node: Node, materials: &mut Materials) -> Result<Shape
     let name = r.attr(node, "id")?;
     if let Some(p) = o.take("flip_normals") {
         if r.boolean(p)? {
-            return Err(r.error(p, "flipped normals are not modelled (picomis surfaces are one-sided, normals outward)"));
+            return Err(r.error(
+                p,
+                "flipped normals are not modelled (picomis surfaces are one-sided, normals outward)",
+            ));
         }
     }
     // The material: a nested <bsdf>, a <ref> to a named one, or Mitsuba's default (diffuse 0.5).
@@ -471,7 +505,8 @@ fn read_shape(r: &Reader, node: Node, materials: &mut Materials) -> Result<Shape
         // by its inverse transpose). Corners in order with cross(p1 - p0, p3 - p0) on that side.
         let at = |x: f64, y: f64| m.point([x, y, 0.0]).map(|v| v as f32);
         let (p0, p2) = (at(-1.0, -1.0), at(1.0, 1.0));
-        let (p1, p3) = if det > 0.0 { (at(1.0, -1.0), at(-1.0, 1.0)) } else { (at(-1.0, 1.0), at(1.0, -1.0)) };
+        let (p1, p3) =
+            if det > 0.0 { (at(1.0, -1.0), at(-1.0, 1.0)) } else { (at(-1.0, 1.0), at(1.0, -1.0)) };
         Shape::quad([p0, p1, p2, p3].map(v3)).map_err(|e| r.error(node, e.to_string()))?;
         ShapeOut::Quad { name, p0, p1, p2, p3, material, emitter }
     };
@@ -480,7 +515,12 @@ fn read_shape(r: &Reader, node: Node, materials: &mut Materials) -> Result<Shape
 
 /// A sphere under `to_world`: Mitsuba composes to_world · translate(center) · scale(radius); the
 /// result must be a similarity (uniform scale, rotation, translation) without mirroring.
-fn sphere_transform(r: &Reader, t: Node, center: [f32; 3], radius: f32) -> Result<([f32; 3], f32), LoadError> {
+fn sphere_transform(
+    r: &Reader,
+    t: Node,
+    center: [f32; 3],
+    radius: f32,
+) -> Result<([f32; 3], f32), LoadError> {
     let m = r.affine(t)?;
     let f = |v: [f32; 3]| v.map(f64::from);
     let inner = Affine::scale([f64::from(radius); 3]).after(&Affine::IDENTITY);
@@ -492,7 +532,10 @@ fn sphere_transform(r: &Reader, t: Node, center: [f32; 3], radius: f32) -> Resul
     let similar = (0..3).all(|i| (dot(cols[i], cols[i]) - r2).abs() <= tol)
         && (0..3).all(|i| (0..i).all(|j| dot(cols[i], cols[j]).abs() <= tol));
     if !similar || !(r2 > 0.0) {
-        return Err(r.error(t, "a sphere's to_world must be translate, rotate and uniform scale (no shear or non-uniform scale)"));
+        return Err(r.error(
+            t,
+            "a sphere's to_world must be translate, rotate and uniform scale (no shear or non-uniform scale)",
+        ));
     }
     if dot(cross(cols[0], cols[1]), cols[2]) < 0.0 {
         return Err(r.error(t, "a mirroring to_world turns the sphere inside out: not modelled"));

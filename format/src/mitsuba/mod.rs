@@ -27,9 +27,24 @@ use crate::{LoadError, MAX_FILE_BYTES, SceneFile};
 /// `name`. `file` names the input in errors (`file:line: <element>: reason`). The result is
 /// checked by [`SceneFile::parse`] before it is returned.
 pub fn import(text: &str, file: &str, name: &str) -> Result<String, LoadError> {
-    let json = import::import(text, file, name)?;
-    SceneFile::parse(&json, file)?;
+    let json = import::import(text, file, name).map_err(one_line)?;
+    SceneFile::parse(&json, file).map_err(one_line)?;
     Ok(json)
+}
+
+/// An error on one line: control characters (from the input, or in the XML parser's messages)
+/// are escaped.
+fn one_line(e: LoadError) -> LoadError {
+    let clean = |s: String| {
+        if s.chars().any(char::is_control) {
+            s.chars()
+                .flat_map(|c| if c.is_control() { c.escape_debug().collect::<Vec<_>>() } else { vec![c] })
+                .collect()
+        } else {
+            s
+        }
+    };
+    LoadError { file: clean(e.file), entry: clean(e.entry), reason: clean(e.reason) }
 }
 
 /// Reads and converts a Mitsuba 3 XML file (see [`import`]); the scene is named after the file.

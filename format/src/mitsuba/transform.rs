@@ -12,7 +12,8 @@ pub(crate) struct Affine {
 pub(crate) type V3 = [f64; 3];
 
 impl Affine {
-    pub(crate) const IDENTITY: Affine = Affine { m: [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]] };
+    pub(crate) const IDENTITY: Affine =
+        Affine { m: [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]] };
 
     /// From a linear part given by its columns and a translation.
     pub(crate) fn from_columns(x: V3, y: V3, z: V3, t: V3) -> Affine {

@@ -222,7 +222,11 @@ impl<'a, 'input> Reader<'a, 'input> {
                             let row = |r: usize| [r0[4 * r], r0[4 * r + 1], r0[4 * r + 2], r0[4 * r + 3]];
                             Affine { m: [row(0), row(1), row(2)] }
                         }
-                        _ => return Err(self.error(child, format!("expected 16 (or 9) numbers, found {}", v.len()))),
+                        _ => {
+                            return Err(
+                                self.error(child, format!("expected 16 (or 9) numbers, found {}", v.len()))
+                            );
+                        }
                     };
                     Op::Matrix(m)
                 }
@@ -242,10 +246,8 @@ impl<'a, 'input> Reader<'a, 'input> {
                     up: self.vec_attr(child, "up")?,
                 },
                 _ => {
-                    return Err(self.error(
-                        child,
-                        "not modelled by picomis (matrix, translate, rotate, scale, lookat)",
-                    ));
+                    return Err(self
+                        .error(child, "not modelled by picomis (matrix, translate, rotate, scale, lookat)"));
                 }
             };
             ops.push(op);
@@ -265,7 +267,9 @@ impl<'a, 'input> Reader<'a, 'input> {
                 Op::Rotate(axis, angle) => Affine::rotate(axis, angle)
                     .ok_or_else(|| self.error(node, "<rotate> needs a non-zero axis"))?,
                 Op::LookAt { origin, target, up } => Affine::look_at(f(origin), f(target), f(up))
-                    .ok_or_else(|| self.error(node, "<lookat>: target equals origin or up is parallel to the view"))?,
+                    .ok_or_else(|| {
+                        self.error(node, "<lookat>: target equals origin or up is parallel to the view")
+                    })?,
             };
             m = step.after(&m);
         }

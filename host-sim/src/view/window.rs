@@ -92,7 +92,11 @@ impl DrawTarget for Live<'_> {
         Ok(())
     }
 
-    fn fill_contiguous<I: IntoIterator<Item = Rgb565>>(&mut self, area: &Rectangle, colors: I) -> Result<(), Interrupted> {
+    fn fill_contiguous<I: IntoIterator<Item = Rgb565>>(
+        &mut self,
+        area: &Rectangle,
+        colors: I,
+    ) -> Result<(), Interrupted> {
         let Ok(()) = self.display.fill_contiguous(area, colors);
         if self.poll(false) { Err(Interrupted) } else { Ok(()) }
     }
@@ -172,14 +176,22 @@ impl SceneVisitor for WindowLoop<'_> {
                 let settings = state.settings(spp).map_err(SimError::Usage)?;
                 let done = if pass == 0 { "-".to_string() } else { format!("{} spp", pass_spp(pass - 1)) };
                 let status = format!("{done}, rendering {spp}");
-                draw_status(live.display, film, [&method, &format!("{}, {sampling}", state.view.label()), &status]);
+                draw_status(
+                    live.display,
+                    film,
+                    [&method, &format!("{}, {sampling}", state.view.label()), &status],
+                );
                 live.poll(true);
                 let start = Instant::now();
                 if render_pass(&scene, &settings, state.view, args.tile, &mut live).is_ok() {
                     pass_ms = start.elapsed().as_secs_f64() * 1e3;
                     pass += 1;
                     let status = format!("{spp} spp, {pass_ms:.0} ms/pass");
-                    draw_status(live.display, film, [&method, &format!("{}, {sampling}", state.view.label()), &status]);
+                    draw_status(
+                        live.display,
+                        film,
+                        [&method, &format!("{}, {sampling}", state.view.label()), &status],
+                    );
                     last = Some((film_rgb(live.display, film), format!("{spp}spp")));
                     if pass == args.passes && !live.live {
                         // Dump mode: one update, after the last pass; the simulator writes the
@@ -189,11 +201,18 @@ impl SceneVisitor for WindowLoop<'_> {
                     }
                     live.poll(true);
                     // After the window shows it (tests/window.rs waits for this line).
-                    println!("pass {pass}: {spp} spp, {pass_ms:.1} ms, {method}, {}, {sampling}", state.view.label());
+                    println!(
+                        "pass {pass}: {spp} spp, {pass_ms:.1} ms, {method}, {}, {sampling}",
+                        state.view.label()
+                    );
                 }
             } else {
                 let status = format!("{} spp, {pass_ms:.0} ms/pass, done", pass_spp(pass - 1));
-                draw_status(live.display, film, [&method, &format!("{}, {sampling}", state.view.label()), &status]);
+                draw_status(
+                    live.display,
+                    film,
+                    [&method, &format!("{}, {sampling}", state.view.label()), &status],
+                );
                 std::thread::sleep(Duration::from_millis(20));
                 live.poll(true);
             }
@@ -203,7 +222,8 @@ impl SceneVisitor for WindowLoop<'_> {
                     Action::Save => {
                         let Some((rgb, spp)) = &last else { continue };
                         let view = state.view.label().replace(' ', "_");
-                        let file = format!("{name}_{}_{view}_{spp}.png", crate::view::METHOD_NAMES[state.method]);
+                        let file =
+                            format!("{name}_{}_{view}_{spp}.png", crate::view::METHOD_NAMES[state.method]);
                         let png = encode_png(film.width, film.height, rgb).map_err(SimError::Io)?;
                         write_atomic(std::path::Path::new(&file), &png).map_err(SimError::Io)?;
                         println!("saved {file}");
@@ -218,4 +238,3 @@ impl SceneVisitor for WindowLoop<'_> {
         }
     }
 }
-
