@@ -86,7 +86,7 @@ pub(crate) fn export(scene: &SceneFile, text: &str) -> Result<Export, LoadError>
     line("    <default name=\"spp\" value=\"64\"/>".into());
     line("    <default name=\"seed\" value=\"0\"/>".into());
     match scene.method {
-        Method::Mis(Heuristic::Power { beta }) if beta == 2.0 => {}
+        Method::Mis(Heuristic::Power { beta: 2.0 }) => {}
         other => notes.push(format!(
             "{}: the scene's default method {other:?} is not kept: Mitsuba's direct integrator always uses the power heuristic (beta 2)",
             scene.file

@@ -531,7 +531,7 @@ fn sphere_transform(
     let tol = 1e-6 * r2;
     let similar = (0..3).all(|i| (dot(cols[i], cols[i]) - r2).abs() <= tol)
         && (0..3).all(|i| (0..i).all(|j| dot(cols[i], cols[j]).abs() <= tol));
-    if !similar || !(r2 > 0.0) {
+    if !similar || r2.is_nan() || r2 <= 0.0 {
         return Err(r.error(
             t,
             "a sphere's to_world must be translate, rotate and uniform scale (no shear or non-uniform scale)",

@@ -36,7 +36,7 @@ impl Affine {
     /// `Transform4f::rotate`. `None` for a zero axis.
     pub(crate) fn rotate(axis: V3, angle_deg: f64) -> Option<Affine> {
         let len = dot(axis, axis).sqrt();
-        if !(len > 0.0) || !len.is_finite() {
+        if len.is_nan() || len <= 0.0 || !len.is_finite() {
             return None;
         }
         let [x, y, z] = axis.map(|a| a / len);

@@ -160,15 +160,15 @@ impl<'a, 'input> Reader<'a, 'input> {
     }
 
     /// Three numbers from `value` (one number means all three) or `x`/`y`/`z` with a default.
-    fn xyz<T: std::str::FromStr + Copy>(&self, node: Node, default: T) -> Result<[T; 3], LoadError>
+    fn xyz<T>(&self, node: Node, default: T) -> Result<[T; 3], LoadError>
     where
-        T: Into<f64>,
+        T: std::str::FromStr + Copy + Into<f64>,
     {
         let v = if let Some(text) = self.attr(node, "value")? {
             let v: Vec<T> = self.numbers(node, "value", &text)?;
-            match v.as_slice() {
-                &[a, b, c] => [a, b, c],
-                &[a] => [a; 3],
+            match *v.as_slice() {
+                [a, b, c] => [a, b, c],
+                [a] => [a; 3],
                 _ => return Err(self.error(node, format!("value {text:?}: expected 1 or 3 numbers"))),
             }
         } else {
