@@ -367,7 +367,7 @@ mod tests {
         all.sort();
         assert_eq!(seen, all);
         assert!(s.apply(Action::Method(-1)));
-        assert_eq!(METHOD_NAMES[s.method], "maximum");
+        assert_eq!(METHOD_NAMES[s.method], "balance");
         for _ in 0..40 {
             s.apply(Action::Beta(-1));
             s.apply(Action::Alpha(1));
