@@ -522,7 +522,9 @@ fn export_then_import_gives_back_every_builtin_scene_bit_for_bit() {
         assert_eq!(imported.film(), original.film(), "{name}");
         assert_eq!(imported.default_method(), original.default_method(), "{name}");
         assert_eq!(imported.default_samples(), original.default_samples(), "{name}");
-        assert_eq!(pixels(&imported), pixels(&original), "{name}: the image changed");
+        let (a, b) = (pixels(&imported), pixels(&original));
+        let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+        assert!(differ == 0, "{name}: the image changed ({differ} of {} values differ)", a.len());
         // Names and values survive: the same JSON values as the original (but description).
         let (a, b) = (json(&json1), json(text));
         assert_same!(a["materials"], b["materials"], "{name}");
@@ -538,7 +540,7 @@ fn export_then_import_gives_back_every_builtin_scene_bit_for_bit() {
         // And the round trip is a fixed point: the same bytes of JSON and of XML.
         let export2 = mitsuba::export(&json1, name).unwrap();
         let json2 = mitsuba::import(&export2.xml, "exported.xml", name).unwrap();
-        assert_eq!(json2, json1, "{name}");
+        assert!(json2 == json1, "{name}: the second round trip changed the JSON");
     }
 }
 
@@ -547,7 +549,7 @@ fn the_veach_xml_round_trips_too() {
     let json1 = mitsuba::import(VEACH_XML, "veach_mis.xml", "veach_mis").unwrap();
     let xml = mitsuba::export(&json1, "veach_mis.json").unwrap().xml;
     let json2 = mitsuba::import(&xml, "again.xml", "veach_mis").unwrap();
-    assert_eq!(json1, json2);
+    assert!(json1 == json2, "the second round trip changed the JSON");
 }
 
 #[test]
