@@ -2,10 +2,10 @@
 
 use std::collections::BTreeMap;
 
-use picomis::{CameraDesc, Film, FovAxis, Material, Rgb, SceneError, Vec3};
+use picomis::{CameraDesc, Emission, Film, FovAxis, Light, Material, SceneError, Vec3};
 use serde::Deserialize;
 
-use crate::{Counts, Geometry, LoadError, SceneFile, Step, check_camera, parse_method};
+use crate::{Counts, Geometry, LoadError, SceneFile, Step, check_camera};
 
 const FORMAT: &str = "picomis-scene/1";
 
@@ -90,18 +90,12 @@ struct IntegratorDesc {
     #[serde(default)]
     hide_emitters: bool,
     mis: String,
-    #[serde(default = "default_beta")]
-    beta: f32,
-    #[serde(default = "default_alpha")]
-    alpha: f32,
-}
-
-fn default_beta() -> f32 {
-    2.0
-}
-
-fn default_alpha() -> f32 {
-    0.1
+    /// The power heuristic's exponent (default: the kernel's).
+    #[serde(default)]
+    beta: Option<f32>,
+    /// The cutoff heuristic's threshold (default: the kernel's).
+    #[serde(default)]
+    alpha: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -261,7 +255,10 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
     if ig.hide_emitters {
         return Err(fail("integrator.hide_emitters", "hiding emitters is not supported (use false)".into()));
     }
-    let method = parse_method(&ig.mis, ig.beta, ig.alpha).map_err(|r| fail("integrator.mis", r))?;
+    let method = picomis::Method::from_name(&ig.mis)
+        .map_err(|e| e.to_string())
+        .and_then(|m| m.with_parameters(ig.beta, ig.alpha).map_err(|e| e.to_string()))
+        .map_err(|r| fail("integrator.mis", r))?;
     picomis::RenderSettings::new(method, ig.emitter_samples, ig.bsdf_samples, 1, 0)
         .map_err(|e| kernel("integrator", e))?;
 
@@ -318,15 +315,9 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
             .ok_or_else(|| fail(&entry, format!("unknown material {material:?}")))?;
         let emitter = match emitter {
             Some(EmitterDesc { radiance, .. }) => {
-                let r: Rgb = v3(radiance);
-                if !r.is_finite() {
-                    return Err(kernel(&entry, SceneError::NonFinite(picomis::Field::Radiance)));
-                }
-                if r.min_element() < 0.0 {
-                    return Err(kernel(&entry, SceneError::OutOfRange(picomis::Field::Radiance)));
-                }
+                let r = Emission::radiance(v3(radiance)).map_err(|e| kernel(&entry, e))?;
                 lights += 1;
-                Some(r)
+                Some(r.rgb())
             }
             None => None,
         };
@@ -341,15 +332,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
             other => return Err(fail(&entry, unknown_type(other, "point"))),
         };
         let (position, intensity) = (v3(d.position), v3(d.intensity));
-        if !position.is_finite() {
-            return Err(kernel(&entry, SceneError::NonFinite(picomis::Field::Position)));
-        }
-        if !intensity.is_finite() {
-            return Err(kernel(&entry, SceneError::NonFinite(picomis::Field::Intensity)));
-        }
-        if intensity.min_element() < 0.0 {
-            return Err(kernel(&entry, SceneError::OutOfRange(picomis::Field::Intensity)));
-        }
+        Light::point(position, intensity).map_err(|e| kernel(&entry, e))?;
         lights += 1;
         steps.push(Step::PointLight { entry, position, intensity });
     }

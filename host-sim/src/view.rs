@@ -15,11 +15,9 @@ use embedded_graphics_core::pixelcolor::{Rgb565, Rgb888};
 use picomis::{
     Estimate, Heuristic, LightSelection, Method, RenderSettings, RenderStats, Scene, SphereSampling,
 };
-pub use picomis_format::METHOD_NAMES;
-use picomis_format::parse_method;
 
 use crate::SimError;
-use crate::cli::{LightSelectionArg, SphereSamplingArg, method_name};
+use crate::cli::{LightSelectionArg, SphereSamplingArg};
 use crate::figure;
 use crate::scenes::Loaded;
 
@@ -148,7 +146,7 @@ s sphere sampling, p save PNG, q quit";
 /// What the keys change: method, view, beta, alpha, light selection and sphere sampling.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ViewState {
-    /// Index into [`METHOD_NAMES`].
+    /// Index into [`Method::ALL`].
     pub method: usize,
     /// The view.
     pub view: View,
@@ -166,20 +164,24 @@ pub struct ViewState {
     pub seed: u32,
 }
 
-/// The method called `METHOD_NAMES[index]` with `beta` and `alpha` (the one place the view
-/// turns names into methods: switch it to the kernel's list of methods when there is one).
+/// The method `Method::ALL[index]` with `beta` and `alpha` (the one place the view turns its
+/// index into a method).
 pub fn method_at(index: usize, beta: f32, alpha: f32) -> Result<Method, String> {
-    let name = METHOD_NAMES.get(index).ok_or_else(|| format!("no method {index}"))?;
-    parse_method(name, beta, alpha)
+    let method = Method::ALL.get(index).ok_or_else(|| format!("no method {index}"))?;
+    method.with_parameters(Some(beta), Some(alpha)).map_err(|e| e.to_string())
+}
+
+/// The name of `Method::ALL[index]`.
+pub fn method_name_at(index: usize) -> &'static str {
+    Method::ALL.get(index).map_or("?", |m| m.name())
 }
 
 impl ViewState {
     /// The starting state from the scene and the flags.
     pub fn new(loaded: &Loaded, args: &ViewArgs) -> Result<Self, SimError> {
-        let name = args.mis.clone().unwrap_or_else(|| method_name(loaded.file.default_method()).to_string());
-        let method = METHOD_NAMES.iter().position(|&m| m == name).ok_or_else(|| {
-            SimError::Usage(format!("--mis {name}: unknown method (expected {})", METHOD_NAMES.join(", ")))
-        })?;
+        let name = args.mis.clone().unwrap_or_else(|| loaded.file.default_method().name().to_string());
+        let parsed: Method = name.parse().map_err(|e| SimError::Usage(format!("--mis {name}: {e}")))?;
+        let method = Method::ALL.iter().position(|m| m.name() == parsed.name()).unwrap_or(0);
         let (mut beta, mut alpha) = (args.beta, args.alpha);
         match loaded.file.default_method() {
             Method::Mis(Heuristic::Power { beta: b }) if args.mis.is_none() => beta = b,
@@ -218,7 +220,7 @@ impl ViewState {
 
     /// The method with its parameter, for the status line.
     pub fn method_label(&self) -> String {
-        match METHOD_NAMES.get(self.method).copied().unwrap_or("?") {
+        match method_name_at(self.method) {
             "power" => format!("power beta {}", self.beta),
             "cutoff" => format!("cutoff alpha {}", self.alpha),
             other => other.to_string(),
@@ -244,7 +246,7 @@ impl ViewState {
             Action::Method(d) => {
                 let start = self.method;
                 loop {
-                    self.method = step(self.method, d.signum(), METHOD_NAMES.len());
+                    self.method = step(self.method, d.signum(), Method::ALL.len());
                     if self.method == start || self.settings(1).is_ok() {
                         break;
                     }
@@ -259,12 +261,12 @@ impl ViewState {
             Action::Beta(d) => {
                 let old = self.beta;
                 self.beta = (self.beta + 0.5 * d as f32).clamp(0.5, 16.0);
-                self.beta != old && METHOD_NAMES.get(self.method) == Some(&"power")
+                self.beta != old && method_name_at(self.method) == "power"
             }
             Action::Alpha(d) => {
                 let old = self.alpha;
                 self.alpha = ((self.alpha + 0.05 * d as f32) * 100.0).round().clamp(0.0, 100.0) / 100.0;
-                self.alpha != old && METHOD_NAMES.get(self.method) == Some(&"cutoff")
+                self.alpha != old && method_name_at(self.method) == "cutoff"
             }
             Action::LightSelection => {
                 self.selection = match self.selection {
@@ -356,24 +358,24 @@ mod tests {
     #[test]
     fn keys_cycle_every_method_and_view_and_keep_parameters_valid() {
         let mut s = state();
-        assert_eq!(METHOD_NAMES[s.method], "power");
+        assert_eq!(method_name_at(s.method), "power");
         let mut seen = vec![];
-        for _ in 0..METHOD_NAMES.len() {
+        for _ in 0..Method::ALL.len() {
             assert!(s.apply(Action::Method(1)));
-            seen.push(METHOD_NAMES[s.method]);
+            seen.push(method_name_at(s.method));
         }
         seen.sort();
-        let mut all = METHOD_NAMES.to_vec();
+        let mut all: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
         all.sort();
         assert_eq!(seen, all);
         assert!(s.apply(Action::Method(-1)));
-        assert_eq!(METHOD_NAMES[s.method], "balance");
+        assert_eq!(method_name_at(s.method), "balance");
         for _ in 0..40 {
             s.apply(Action::Beta(-1));
             s.apply(Action::Alpha(1));
         }
         assert_eq!((s.beta, s.alpha), (0.5, 1.0));
-        s.method = METHOD_NAMES.iter().position(|&m| m == "cutoff").unwrap();
+        s.method = Method::ALL.iter().position(|m| m.name() == "cutoff").unwrap();
         assert!(s.settings(4).is_ok());
         assert!(!s.apply(Action::Beta(1)), "beta does not change a cutoff render");
         assert!(s.apply(Action::Alpha(-1)));

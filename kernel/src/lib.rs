@@ -45,7 +45,9 @@
 pub mod camera;
 pub mod error;
 pub mod estimator;
+pub mod ids;
 pub mod light;
+pub mod light_sampler;
 pub mod material;
 pub mod math;
 pub mod mis;
@@ -59,12 +61,16 @@ pub mod shape;
 pub use camera::{Camera, CameraDesc, Film, FovAxis};
 pub use error::{Collection, Field, SceneError};
 pub use estimator::{Estimate, TechniqueEstimate, estimate_direct, trace};
-pub use light::{Light, LightSample, LightSelection, SphereSampling};
+pub use ids::{LightId, MaterialId, ShapeId};
+pub use light::{Emission, Light};
+pub use light_sampler::{
+    LightChoice, LightSample, LightSampler, LightSelection, ShadingPoint, SphereSampling,
+};
 pub use material::{BsdfSample, Material};
 pub use math::{Rgb, Vec2, Vec3};
-pub use mis::{Heuristic, Method, Technique};
+pub use mis::{Heuristic, Method, ParseMethodError, Technique, UnknownMethod};
 pub use render::{RenderStats, camera_sample, film_rect, render, render_pixel, render_tile, tiles, tone_map};
 pub use rng::Sampler;
-pub use scene::{Hit, LightId, MaterialId, Object, Scene, ShapeId};
+pub use scene::{Hit, Object, Scene};
 pub use settings::RenderSettings;
 pub use shape::{Ray, Shape, SurfacePoint};

@@ -222,8 +222,7 @@ impl SceneVisitor for WindowLoop<'_> {
                     Action::Save => {
                         let Some((rgb, spp)) = &last else { continue };
                         let view = state.view.label().replace(' ', "_");
-                        let file =
-                            format!("{name}_{}_{view}_{spp}.png", crate::view::METHOD_NAMES[state.method]);
+                        let file = format!("{name}_{}_{view}_{spp}.png", super::method_name_at(state.method));
                         let png = encode_png(film.width, film.height, rgb).map_err(SimError::Io)?;
                         write_atomic(std::path::Path::new(&file), &png).map_err(SimError::Io)?;
                         println!("saved {file}");
