@@ -14,11 +14,22 @@ for t in thumbv7em-none-eabihf thumbv6m-none-eabi riscv32imc-unknown-none-elf; d
   grep -qx "$t" <<<"$installed" || rustup target add "$t"
 done
 
+step "Debian packages for the view window: SDL2, Xvfb, ImageMagick (import)"
+missing=()
+command -v Xvfb >/dev/null || missing+=(xvfb)
+command -v import >/dev/null || missing+=(imagemagick)
+dpkg -s libsdl2-dev >/dev/null 2>&1 || missing+=(libsdl2-dev)
+if [ ${#missing[@]} -gt 0 ]; then
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+
 step "cargo fmt --check"
 cargo fmt --all -- --check
 
 step "cargo clippy -D warnings (host crates, all targets)"
 cargo clippy --all-targets -- -D warnings
+cargo clippy -p picomis-sim --all-targets --features window -- -D warnings
 
 step "kernel: no f64, no alloc"
 # Code lines only: doc comments may name f64 (to say why it is avoided).
@@ -49,6 +60,9 @@ cargo test --release
 
 step "README firmware table == firmware/budget.json"
 scripts/budget.sh readme --check
+
+step "view window under Xvfb: screenshot and simulator dump equal render --out F.rgb565"
+cargo test --release -p picomis-sim --features window --test window
 
 if [ -x scripts/firmware.sh ]; then
   step "firmware under QEMU: M4F, M0 and RV32IMC, pixels equal to the host's; M0 soft float bit for bit"

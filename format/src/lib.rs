@@ -13,6 +13,7 @@
 mod catalog;
 mod codegen;
 mod desc;
+pub mod mitsuba;
 
 use std::fmt;
 use std::path::Path;

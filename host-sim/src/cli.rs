@@ -36,6 +36,13 @@ pub enum Command {
     Study(crate::study::StudyArgs),
     /// Serve the browser page (web/: the kernel as WebAssembly, live MIS) on a local port.
     Serve(crate::serve::ServeArgs),
+    /// Convert a Mitsuba 3 XML scene into a picomis-scene/1 file.
+    Import(crate::interop::ImportArgs),
+    /// Write a scene as Mitsuba 3 XML.
+    Export(crate::interop::ExportArgs),
+    /// Show a scene in an embedded-graphics-simulator window, refining pass by pass (needs the
+    /// `window` feature).
+    View(crate::view::ViewArgs),
 }
 
 /// How sphere lights are sampled.
@@ -129,6 +136,9 @@ pub fn run(cli: Cli) -> Result<(), SimError> {
         Command::Figure(args) => figure(&args),
         Command::Study(args) => crate::study::run(&args),
         Command::Serve(args) => crate::serve::run(&args),
+        Command::Import(args) => crate::interop::import(&args),
+        Command::Export(args) => crate::interop::export(&args),
+        Command::View(args) => crate::view::run(&args),
         Command::Scenes => {
             for b in BUILTINS {
                 let film = picomis_format::SceneFile::parse(b.json, b.name)?.film();

@@ -3,7 +3,7 @@
 //! MIS weights (false colour with a legend) and weighted contributions.
 
 use embedded_graphics_core::pixelcolor::RgbColor;
-use picomis::{Estimate, Heuristic, Method, RenderSettings, Rgb, tone_map};
+use picomis::{Estimate, Heuristic, Method, RenderSettings, Rgb, TechniqueEstimate, tone_map};
 
 use crate::SimError;
 use crate::render::{Batch, Estimates, RenderBatch};
@@ -57,7 +57,14 @@ pub fn weight_color(w: f32) -> [u8; 3] {
     [c.r(), c.g(), c.b()]
 }
 
-fn srgb(c: Rgb) -> [u8; 3] {
+/// The weight images' colour of one pixel: its technique's mean MIS weight over the samples
+/// that found light, in false colour, or [`no_light`] where none did.
+pub fn weight(t: &TechniqueEstimate) -> [u8; 3] {
+    if t.found > 0 { weight_color(t.mean_weight()) } else { no_light() }
+}
+
+/// The contribution images' colour of one pixel: tone-mapped like the renders.
+pub fn srgb(c: Rgb) -> [u8; 3] {
     let t = tone_map(c);
     [t.r(), t.g(), t.b()]
 }
@@ -145,8 +152,6 @@ pub fn compose(images: &[Estimates], caption: &[String]) -> Canvas {
         put_panel(&mut canvas, row, col, label, panel(img, |e| srgb(e.radiance())));
     }
     let balance = &images[weights_panel()];
-    let weight =
-        |t: &picomis::TechniqueEstimate| if t.found > 0 { weight_color(t.mean_weight()) } else { no_light() };
     put_panel(&mut canvas, 1, 2, "(g) weight of BSDF samples in (d)", panel(balance, |e| weight(&e.bsdf)));
     put_panel(&mut canvas, 1, 3, "(h) weight of light samples in (d)", panel(balance, |e| weight(&e.light)));
     put_panel(

@@ -25,12 +25,14 @@
 
 pub mod cli;
 pub mod figure;
+pub mod interop;
 pub mod output;
 pub mod render;
 pub mod scenes;
 pub mod serve;
 pub mod study;
 pub mod text;
+pub mod view;
 
 use std::fmt;
 

@@ -81,10 +81,9 @@ struct Renders {
     reference: Vec<f64>,
 }
 
-fn render() -> (Vec<Renders>, Vec<bool>) {
+fn render(loaded: &scenes::Loaded) -> (Vec<Renders>, Vec<bool>) {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/veach_mis.ref.exr");
     let reference = read_exr(std::path::Path::new(path)).expect("reading the reference");
-    let loaded = scenes::load(Some("veach_mis")).unwrap();
     let film = loaded.file.film();
     assert_eq!((reference.width, reference.height), (film.width(), film.height()));
     // The reference's settings: power heuristic (beta 2), 1 light + 1 BSDF sample.
@@ -211,12 +210,26 @@ fn agrees(c: &Comparison) -> bool {
 
 #[test]
 fn veach_converges_to_the_mitsuba_reference() {
-    let (channels, emitter) = render();
+    converges(&scenes::load(Some("veach_mis")).unwrap(), "veach_mis");
+}
+
+/// The scene Mitsuba rendered, imported from its own XML (`picomis-sim import`; rectangles as
+/// `matrix` transforms), converges to the same reference.
+#[test]
+fn the_imported_mitsuba_xml_converges_to_the_reference_too() {
+    let xml = concat!(env!("CARGO_MANIFEST_DIR"), "/../format/tests/data/veach_mis.xml");
+    let json = picomis_format::mitsuba::import_file(std::path::Path::new(xml)).unwrap();
+    let file = picomis_format::SceneFile::parse(&json, "veach_mis.xml").unwrap();
+    converges(&scenes::Loaded { file, builtin: None }, "veach_mis.xml imported");
+}
+
+fn converges(loaded: &scenes::Loaded, label: &str) {
+    let (channels, emitter) = render(loaded);
     let mut failures = Vec::new();
     for (name, r) in CHANNELS.iter().zip(&channels) {
         let c = compare(r, &emitter, 1.0);
         println!(
-            "veach_mis vs Mitsuba 3, channel {name} ({K} x {SPP} spp, {} 16x16 blocks without emitter \
+            "{label} vs Mitsuba 3, channel {name} ({K} x {SPP} spp, {} 16x16 blocks without emitter \
              pixels): mean |relative difference| per block {:.4}, whole image {:+.5} (z {:+.2}), max |z| \
              {:.2}, |z| < 3 in {:.1} % of blocks; reference noise per pixel: measured variance {:.2e} +- \
              {:.1e} (RMS {:.4}), modelled {:.2e} (RMS {:.4}); ours (mean of {} spp) RMS {:.4}",
