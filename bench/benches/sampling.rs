@@ -94,17 +94,25 @@ fn lights(c: &mut Criterion) {
     ];
     for (name, light, shape, spheres) in cases {
         cycle(&mut g, &format!("{name}/sample_li"), |i| {
-            light.sample_li(shape.as_ref(), xs[i], t.u[i], spheres)
+            light.sample_li(shape.as_ref(), xs[i], t.u[i], spheres, picomis::QuadSampling::Area)
         });
         // Points on the light seen from each x, as a BSDF ray would find them.
         let ys: Vec<SurfacePoint> = (0..INPUTS)
             .map(|i| {
-                let s = light.sample_li(shape.as_ref(), xs[i], t.u[(i + 1) & MASK], spheres);
+                let s = light.sample_li(
+                    shape.as_ref(),
+                    xs[i],
+                    t.u[(i + 1) & MASK],
+                    spheres,
+                    picomis::QuadSampling::Area,
+                );
                 let p = s.map_or(Vec3::new(0.0, 2.0, 0.0), |s| xs[i] + s.wi * s.distance);
                 SurfacePoint { p, n: shape.map_or(Vec3::Y, |sh| sh.normal_at(p)) }
             })
             .collect();
-        cycle(&mut g, &format!("{name}/pdf_li"), |i| light.pdf_li(shape.as_ref(), xs[i], &ys[i], spheres));
+        cycle(&mut g, &format!("{name}/pdf_li"), |i| {
+            light.pdf_li(shape.as_ref(), xs[i], &ys[i], spheres, picomis::QuadSampling::Area)
+        });
     }
     g.finish();
 }
@@ -152,7 +160,14 @@ fn scene_queries(c: &mut Criterion) {
     });
     cycle(&mut g, "sample_light_cone", |i| {
         let p = shadow[i].0.origin;
-        scene.sample_light(p, t.u1[i], t.u[i], SphereSampling::Cone, picomis::LightSelection::Uniform)
+        scene.sample_light(
+            p,
+            t.u1[i],
+            t.u[i],
+            SphereSampling::Cone,
+            picomis::QuadSampling::Area,
+            picomis::LightSelection::Uniform,
+        )
     });
     g.finish();
 }

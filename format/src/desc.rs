@@ -94,6 +94,20 @@ struct IntegratorDesc {
     beta: f32,
     #[serde(default = "default_alpha")]
     alpha: f32,
+    /// `multi` (default) or `one`: the MIS sampling model.
+    #[serde(default = "default_mis_model")]
+    mis_model: String,
+    /// Probability of the light technique in the one-sample model.
+    #[serde(default = "default_c_light")]
+    c_light: f32,
+}
+
+fn default_mis_model() -> String {
+    "multi".into()
+}
+
+fn default_c_light() -> f32 {
+    picomis::model::DEFAULT_C_LIGHT
 }
 
 fn default_beta() -> f32 {
@@ -262,7 +276,10 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
         return Err(fail("integrator.hide_emitters", "hiding emitters is not supported (use false)".into()));
     }
     let method = parse_method(&ig.mis, ig.beta, ig.alpha).map_err(|r| fail("integrator.mis", r))?;
+    let model =
+        crate::parse_mis_model(&ig.mis_model, ig.c_light).map_err(|r| fail("integrator.mis_model", r))?;
     picomis::RenderSettings::new(method, ig.emitter_samples, ig.bsdf_samples, 1, 0)
+        .and_then(|s| s.with_mis_model(model))
         .map_err(|e| kernel("integrator", e))?;
 
     let mut steps = Vec::new();
@@ -362,6 +379,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
         film,
         camera,
         method,
+        model,
         light_samples: ig.emitter_samples,
         bsdf_samples: ig.bsdf_samples,
         steps,

@@ -3,8 +3,11 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Parser, Subcommand, ValueEnum};
-use picomis::{Film, Heuristic, LightSelection, Method, RenderSettings, SphereSampling};
-use picomis_format::parse_method;
+use picomis::{
+    ControlVariate, Film, Heuristic, LightSelection, Method, MisModel, QuadSampling, RenderSettings,
+    SphereSampling,
+};
+use picomis_format::{parse_method, parse_mis_model};
 
 use crate::SimError;
 use crate::figure::render_figure;
@@ -43,6 +46,33 @@ pub enum SphereSamplingArg {
     Area,
     /// Uniformly in the cone the sphere subtends.
     Cone,
+}
+
+/// How quad lights are sampled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum QuadSamplingArg {
+    /// Uniformly by area.
+    Area,
+    /// Uniformly in solid angle (spherical rectangles; by area where that is not stable).
+    SolidAngle,
+}
+
+/// The MIS sampling model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MisModelArg {
+    /// Every technique draws its samples (light and BSDF sample counts).
+    Multi,
+    /// One sample per camera sample: light with probability --c-light, else BSDF.
+    One,
+}
+
+/// Whether unoccluded light is computed in closed form (Lambertian receivers).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    /// On.
+    On,
+    /// Off.
+    Off,
 }
 
 /// How a light is chosen among several.
@@ -85,6 +115,20 @@ pub struct RenderArgs {
     /// How a light is chosen among several.
     #[arg(long, value_enum, default_value_t = LightSelectionArg::Uniform)]
     pub light_selection: LightSelectionArg,
+    /// How quad lights are sampled.
+    #[arg(long, value_enum, default_value_t = QuadSamplingArg::Area)]
+    pub quad_sampling: QuadSamplingArg,
+    /// MIS model: multi-sample or one-sample (default: the scene's integrator block, else multi).
+    #[arg(long, value_enum)]
+    pub mis_model: Option<MisModelArg>,
+    /// Probability of the light technique in the one-sample model, in [0, 1] (default: the
+    /// scene's, else 0.5).
+    #[arg(long, value_name = "C", allow_negative_numbers = true)]
+    pub c_light: Option<f32>,
+    /// Unoccluded light of quad and sphere lights on Lambertian surfaces in closed form, Monte
+    /// Carlo for the shadows only.
+    #[arg(long, value_enum, default_value_t = OnOff::Off)]
+    pub control_variate: OnOff,
     /// Seed: the same seed gives the same image, on any number of threads.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -224,7 +268,35 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
         LightSelectionArg::Uniform => LightSelection::Uniform,
         LightSelectionArg::Power => LightSelection::Power,
     };
-    Ok(settings.with_sphere_sampling(spheres).with_light_selection(selection))
+    let quads = match args.quad_sampling {
+        QuadSamplingArg::Area => QuadSampling::Area,
+        QuadSamplingArg::SolidAngle => QuadSampling::SolidAngle,
+    };
+    let control_variate = match args.control_variate {
+        OnOff::On => ControlVariate::On,
+        OnOff::Off => ControlVariate::Off,
+    };
+    let scene_model = loaded.file.default_model();
+    let scene_c = match scene_model {
+        MisModel::One { c_light } => c_light,
+        MisModel::Multi => picomis::model::DEFAULT_C_LIGHT,
+    };
+    let model_name = match (args.mis_model, scene_model) {
+        (Some(MisModelArg::One), _) | (None, MisModel::One { .. }) => "one",
+        (Some(MisModelArg::Multi), _) | (None, MisModel::Multi) => "multi",
+    };
+    if let (Some(c), "multi") = (args.c_light, model_name) {
+        return Err(usage(format!("--c-light {c}: only the one-sample model (--mis-model one) has a c")));
+    }
+    let c_light = args.c_light.unwrap_or(scene_c);
+    let model = parse_mis_model(model_name, c_light)
+        .map_err(|e| usage(format!("--mis-model {model_name} --c-light {c_light}: {e}")))?;
+    let settings = settings.with_mis_model(model).map_err(|e| usage(format!("--c-light {c_light}: {e}")))?;
+    Ok(settings
+        .with_sphere_sampling(spheres)
+        .with_light_selection(selection)
+        .with_quad_sampling(quads)
+        .with_control_variate(control_variate))
 }
 
 /// The film from the scene and `--width` / `--height`.

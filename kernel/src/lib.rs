@@ -42,6 +42,7 @@
 // `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod analytic;
 pub mod camera;
 pub mod error;
 pub mod estimator;
@@ -49,6 +50,7 @@ pub mod light;
 pub mod material;
 pub mod math;
 pub mod mis;
+pub mod model;
 pub mod render;
 pub mod rng;
 pub mod sampling;
@@ -58,13 +60,17 @@ pub mod shape;
 
 pub use camera::{Camera, CameraDesc, Film, FovAxis};
 pub use error::{Collection, Field, SceneError};
-pub use estimator::{Estimate, TechniqueEstimate, estimate_direct, trace};
-pub use light::{Light, LightSample, LightSelection, SphereSampling};
+pub use estimator::{
+    Estimate, Shading, TechniqueEstimate, estimate_direct, estimate_direct_multi_sample,
+    estimate_direct_one_sample, trace,
+};
+pub use light::{Light, LightSample, LightSelection, QuadSampling, SphereSampling};
 pub use material::{BsdfSample, Material};
 pub use math::{Rgb, Vec2, Vec3};
 pub use mis::{Heuristic, Method, Technique};
+pub use model::MisModel;
 pub use render::{RenderStats, camera_sample, film_rect, render, render_pixel, render_tile, tiles, tone_map};
 pub use rng::Sampler;
 pub use scene::{Hit, LightId, MaterialId, Object, Scene, ShapeId};
-pub use settings::RenderSettings;
+pub use settings::{ControlVariate, RenderSettings};
 pub use shape::{Ray, Shape, SurfacePoint};

@@ -3,8 +3,11 @@
 //! the pdf of a direction is evaluated by the same routine that the sampler's pdf comes from.
 
 use crate::math::{Frame, PI, Rgb, Vec2, Vec3, luminance, max0, safe_sqrt, sqrt};
-use crate::sampling::{cone_one_minus_cos, sample_uniform_cone, uniform_cone_pdf};
-use crate::shape::{Shape, SurfacePoint};
+use crate::sampling::{
+    SphericalRectangle, cone_one_minus_cos, sample_spherical_rectangle, sample_uniform_cone,
+    spherical_rectangle, spherical_rectangle_pdf, uniform_cone_pdf,
+};
+use crate::shape::{Rectangle, Shape, SurfacePoint};
 
 /// How points on sphere lights are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -16,6 +19,19 @@ pub enum SphereSampling {
     /// Uniformly inside the cone the sphere subtends (falls back to area from inside).
     #[default]
     Cone,
+}
+
+/// How points on quad lights are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum QuadSampling {
+    /// Uniformly by area, converted to solid angle.
+    #[default]
+    Area,
+    /// Uniformly in the solid angle the quad subtends (spherical rectangles, Ureña et al. 2013);
+    /// by area for quads that are not rectangles and where f32 cannot resolve the solid angle
+    /// (tiny or grazing rectangles, see [`spherical_rectangle`]).
+    SolidAngle,
 }
 
 /// How a light is chosen when a scene has several.
@@ -82,6 +98,7 @@ impl Light {
         x: Vec3,
         u: Vec2,
         spheres: SphereSampling,
+        quads: QuadSampling,
     ) -> Option<LightSample> {
         match *self {
             Light::Point { position, intensity } => {
@@ -106,6 +123,20 @@ impl Light {
                         return Some(LightSample { radiance, ..s });
                     }
                 }
+                if let Some((rect, sr)) = rectangle_seen_from(shape, x, quads) {
+                    // Decided by the setup alone, as in `pdf_li`: no fallback after this point.
+                    let local = sample_spherical_rectangle(&sr, u)?;
+                    let distance = sqrt(local.length_squared());
+                    let wi = (rect.ex * local.x + rect.ey * local.y + rect.n * local.z) / distance;
+                    let pdf = spherical_rectangle_pdf(&sr);
+                    return (distance > 0.0 && pdf.is_finite()).then_some(LightSample {
+                        wi,
+                        distance,
+                        radiance,
+                        pdf,
+                        delta: false,
+                    });
+                }
                 // Uniform area, converted to solid angle: p_w = p_A |x - y|^2 / cos(theta_y).
                 let y = shape.sample_area(u);
                 let pdf = area_to_solid_angle(shape.area_pdf(), x, &y)?;
@@ -119,7 +150,14 @@ impl Light {
     /// Pdf per unit solid angle with which [`Light::sample_li`] produces the direction from `x`
     /// to the point `y` of this light's shape (found by a BSDF ray); 0 for point lights.
     #[inline]
-    pub fn pdf_li(&self, shape: Option<&Shape>, x: Vec3, y: &SurfacePoint, spheres: SphereSampling) -> f32 {
+    pub fn pdf_li(
+        &self,
+        shape: Option<&Shape>,
+        x: Vec3,
+        y: &SurfacePoint,
+        spheres: SphereSampling,
+        quads: QuadSampling,
+    ) -> f32 {
         match (self, shape) {
             (Light::Point { .. }, _) | (Light::Area { .. }, None) => 0.0,
             (Light::Area { .. }, Some(shape)) => {
@@ -128,10 +166,30 @@ impl Light {
                         return uniform_cone_pdf(omc);
                     }
                 }
+                if let Some((_, sr)) = rectangle_seen_from(shape, x, quads) {
+                    return spherical_rectangle_pdf(&sr);
+                }
                 area_to_solid_angle(shape.area_pdf(), x, y).unwrap_or(0.0)
             }
         }
     }
+}
+
+/// The spherical rectangle a rectangular quad light subtends at `x`, when quads are sampled in
+/// solid angle and f32 can resolve it (else the light is sampled by area).
+#[inline]
+fn rectangle_seen_from(
+    shape: &Shape,
+    x: Vec3,
+    quads: QuadSampling,
+) -> Option<(Rectangle, SphericalRectangle)> {
+    if quads != QuadSampling::SolidAngle {
+        return None;
+    }
+    let rect = shape.as_rectangle()?;
+    let d = rect.p0 - x;
+    let corner = Vec3::new(d.dot(rect.ex), d.dot(rect.ey), d.dot(rect.n));
+    Some((rect, spherical_rectangle(corner, rect.lengths.x, rect.lengths.y)?))
 }
 
 /// Converts an area pdf at `y` to solid angle at `x`; `None` where `y` faces away from `x`.

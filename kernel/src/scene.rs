@@ -6,7 +6,7 @@ use heapless::Vec;
 
 use crate::camera::{Camera, CameraDesc, Film};
 use crate::error::{Collection, Field, SceneError};
-use crate::light::{Light, LightSample, LightSelection, SphereSampling};
+use crate::light::{Light, LightSample, LightSelection, QuadSampling, SphereSampling};
 use crate::material::Material;
 use crate::math::{Rgb, Vec2, Vec3, finite3};
 use crate::sampling::{discrete_pdf, sample_discrete};
@@ -265,6 +265,25 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         }
     }
 
+    /// Calls `f` for every emitter whose front side `ray` meets (ignoring object `skip`), with the
+    /// hit, the light index, its radiance, and whether it is the first surface on the ray
+    /// (visible). For the control variate, which needs the lights behind occluders too.
+    #[inline]
+    pub fn emitters_along(&self, ray: &Ray, skip: usize, mut f: impl FnMut(Hit, usize, Rgb, bool)) {
+        let nearest = self.intersect(ray, 0.0, f32::INFINITY, Some(skip)).map(|h| h.object);
+        for (i, o) in self.objects.iter().enumerate() {
+            let Some(light_index) = o.light.map(usize::from) else { continue };
+            if i == skip {
+                continue;
+            }
+            let Some(t) = o.shape.intersect(ray, 0.0, f32::INFINITY) else { continue };
+            let Some(hit) = self.hit(ray, t, i).filter(|h| h.front) else { continue };
+            if let Some(Light::Area { radiance, .. }) = self.lights.get(light_index) {
+                f(hit, light_index, *radiance, nearest == Some(i));
+            }
+        }
+    }
+
     /// True when nothing but objects `a` and `b` lies on the ray before `t_max`.
     #[inline]
     pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: usize, b: Option<usize>) -> bool {
@@ -318,11 +337,12 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         u_select: f32,
         u: Vec2,
         spheres: SphereSampling,
+        quads: QuadSampling,
         selection: LightSelection,
     ) -> Option<(LightSample, Option<usize>)> {
         let (i, p_select) = self.select_light(u_select, selection)?;
         let light = self.lights.get(i)?;
-        let sample = light.sample_li(self.light_shape(light), x, u, spheres)?;
+        let sample = light.sample_li(self.light_shape(light), x, u, spheres, quads)?;
         let object = match light {
             Light::Area { shape, .. } => Some(usize::from(*shape)),
             Light::Point { .. } => None,
@@ -339,10 +359,11 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         x: Vec3,
         y: &SurfacePoint,
         spheres: SphereSampling,
+        quads: QuadSampling,
         selection: LightSelection,
     ) -> f32 {
         let Some(light) = self.lights.get(i) else { return 0.0 };
-        self.light_selection_pdf(i, selection) * light.pdf_li(self.light_shape(light), x, y, spheres)
+        self.light_selection_pdf(i, selection) * light.pdf_li(self.light_shape(light), x, y, spheres, quads)
     }
 }
 

@@ -399,7 +399,9 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
 
             // A light sample.
             let (u_select, u) = (rng.next_f32(), rng.next_2d());
-            if let Some((ls, light_object)) = scene.sample_light(p, u_select, u, spheres, selection) {
+            if let Some((ls, light_object)) =
+                scene.sample_light(p, u_select, u, spheres, picomis::QuadSampling::Area, selection)
+            {
                 let what = format!("{at}: light sample {ls:?}");
                 prop_assert!(ls.pdf.is_finite() && ls.pdf > 0.0, "{what}: pdf");
                 prop_assert!(
@@ -438,7 +440,8 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
             tally.add(check_bsdf_sample(&material, wo, &bs, &what)?);
             let ray = Ray { origin: p, dir: frame.to_world(bs.wi) };
             if let Some((hit, light, radiance)) = scene.emitter_hit(&ray, object) {
-                let p_light = scene.light_pdf(light, p, &hit.point, spheres, selection);
+                let p_light =
+                    scene.light_pdf(light, p, &hit.point, spheres, picomis::QuadSampling::Area, selection);
                 prop_assert!(pdf_ok(p_light), "{what}: light pdf {p_light} at {hit:?}");
                 if radiance != Rgb::ZERO {
                     prop_assert!(
@@ -516,7 +519,7 @@ fn check_sample_pdf(
     let (spheres, selection) = (settings.sphere_sampling(), settings.light_selection());
     let yp = p + ls.wi * ls.distance;
     let y = SurfacePoint { p: yp, n: shape.normal_at(yp) };
-    let again = scene.light_pdf(light, p, &y, spheres, selection);
+    let again = scene.light_pdf(light, p, &y, spheres, picomis::QuadSampling::Area, selection);
     prop_assert!(pdf_ok(again), "{what}: light_pdf {again}");
     let by_cone = match (spheres, shape.as_sphere()) {
         (SphereSampling::Cone, Some((c, r))) => (c - p).length_squared() > r * r,
@@ -570,7 +573,10 @@ fn point_lights_have_no_light_pdf() {
     assert!(matches!(scene.lights()[0], Light::Point { .. }));
     let y = SurfacePoint { p: Vec3::Y, n: -Vec3::Y };
     for spheres in [SphereSampling::Area, SphereSampling::Cone] {
-        assert_eq!(scene.light_pdf(0, Vec3::ZERO, &y, spheres, LightSelection::Uniform), 0.0);
+        assert_eq!(
+            scene.light_pdf(0, Vec3::ZERO, &y, spheres, picomis::QuadSampling::Area, LightSelection::Uniform),
+            0.0
+        );
     }
 }
 

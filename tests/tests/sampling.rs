@@ -126,7 +126,7 @@ fn pdf_towards(light: &Light, shape: &Shape, x: Vec3, dir: DVec3, spheres: Spher
         Some(t) => {
             let p = ray.at(t);
             let y = SurfacePoint { p, n: shape.normal_at(p) };
-            f64::from(light.pdf_li(Some(shape), x, &y, spheres))
+            f64::from(light.pdf_li(Some(shape), x, &y, spheres, picomis::QuadSampling::Area))
         }
         None => 0.0,
     }
@@ -263,7 +263,7 @@ fn chi2_sphere_light_by_cone() {
             64,
             N_CHI2,
             100 + k as u32,
-            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Cone),
+            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Cone, picomis::QuadSampling::Area),
             |s| cap.coords(d3(s.wi)),
         );
         let pdf = |w: DVec3| pdf_towards(&light, &shape, x, w, SphereSampling::Cone);
@@ -284,11 +284,17 @@ fn chi2_sphere_light_by_area() {
             64,
             N_CHI2,
             110 + k as u32,
-            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Area),
+            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Area, picomis::QuadSampling::Area),
             |s| chart.coords(sample_point(x, s.wi, s.distance)),
         );
         let pdf = |p: Vec3, n: Vec3| {
-            f64::from(light.pdf_li(Some(&shape), x, &SurfacePoint { p, n }, SphereSampling::Area))
+            f64::from(light.pdf_li(
+                Some(&shape),
+                x,
+                &SurfacePoint { p, n },
+                SphereSampling::Area,
+                picomis::QuadSampling::Area,
+            ))
         };
         let label = format!("sphere light by area, r/d = {r_over_d}");
         let c2 = h.assert_matches(&label, chart.density(pdf), CHI2_TESTS);
@@ -327,11 +333,17 @@ fn chi2_quad_light_by_area() {
             32,
             N_CHI2,
             120 + k as u32,
-            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Cone),
+            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Cone, picomis::QuadSampling::Area),
             |s| chart.coords(sample_point(x, s.wi, s.distance)),
         );
         let pdf = |p: Vec3, n: Vec3| {
-            f64::from(light.pdf_li(Some(&shape), x, &SurfacePoint { p, n }, SphereSampling::Cone))
+            f64::from(light.pdf_li(
+                Some(&shape),
+                x,
+                &SurfacePoint { p, n },
+                SphereSampling::Cone,
+                picomis::QuadSampling::Area,
+            ))
         };
         h.assert_matches(&format!("quad light by area from {x}"), chart.density(pdf), CHI2_TESTS);
     }
@@ -418,7 +430,14 @@ fn chi2_scene_light_sampling() {
             let mut rng = Sampler::new(300 + k, 0, 0);
             for _ in 0..N_CHI2 {
                 let u_select = rng.next_f32();
-                match s.sample_light(x, u_select, rng.next_2d(), spheres, selection) {
+                match s.sample_light(
+                    x,
+                    u_select,
+                    rng.next_2d(),
+                    spheres,
+                    picomis::QuadSampling::Area,
+                    selection,
+                ) {
                     Some((ls, Some(0))) => match spheres {
                         SphereSampling::Cone => hs.add(cone.coords(d3(ls.wi))),
                         SphereSampling::Area => hs.add(cap.coords(sample_point(x, ls.wi, ls.distance))),
@@ -437,7 +456,14 @@ fn chi2_scene_light_sampling() {
             }
             let n = N_CHI2 as f64;
             let pdf_at = |light: usize, p: Vec3, nrm: Vec3| {
-                f64::from(s.light_pdf(light, x, &SurfacePoint { p, n: nrm }, spheres, selection))
+                f64::from(s.light_pdf(
+                    light,
+                    x,
+                    &SurfacePoint { p, n: nrm },
+                    spheres,
+                    picomis::QuadSampling::Area,
+                    selection,
+                ))
             };
             let (es, ts) = match spheres {
                 SphereSampling::Cone => {
@@ -525,7 +551,7 @@ fn measure_sphere_light_by_cone_down_to_tiny_spheres() {
         let mut min_cos: f64 = 1.0;
         let axis = (d3(c) - d3(x)).normalize();
         let st = inverse_pdf_stats(5, 10_000, |u| {
-            let s = light.sample_li(Some(&shape), x, u, SphereSampling::Cone)?;
+            let s = light.sample_li(Some(&shape), x, u, SphereSampling::Cone, picomis::QuadSampling::Area)?;
             min_cos = min_cos.min(d3(s.wi).normalize().dot(axis));
             Some(s.pdf)
         });
@@ -548,7 +574,9 @@ fn measure_sphere_light_by_area() {
         let (c, r) = shape.as_sphere().unwrap();
         let exact = cone_measure(f64::from(r) / (d3(c) - d3(x)).length());
         let st = inverse_pdf_stats(6, N_MEASURE, |u| {
-            light.sample_li(Some(&shape), x, u, SphereSampling::Area).map(|s| s.pdf)
+            light
+                .sample_li(Some(&shape), x, u, SphereSampling::Area, picomis::QuadSampling::Area)
+                .map(|s| s.pdf)
         });
         assert_unbiased(&format!("E[1/p] sphere light by area, r/d = {r_over_d:e}"), &st, exact, 0.01);
     }
@@ -561,7 +589,9 @@ fn measure_quad_light() {
     for x in quad_points() {
         let exact = polygon_solid_angle(d3(x), &verts);
         let st = inverse_pdf_stats(7, N_MEASURE, |u| {
-            light.sample_li(Some(&shape), x, u, SphereSampling::Area).map(|s| s.pdf)
+            light
+                .sample_li(Some(&shape), x, u, SphereSampling::Area, picomis::QuadSampling::Area)
+                .map(|s| s.pdf)
         });
         assert_unbiased(&format!("E[1/p] quad light from {x}"), &st, exact, 0.01);
     }

@@ -444,8 +444,13 @@ fn run_case(case: &Case, id: u32) -> Outcome {
     Outcome { row, notes, failures }
 }
 
-/// Veach's bound for one light and one BSDF sample: (1 / min_i n_i - 1 / sum_i n_i) = 1/2.
-const VEACH_BOUND: f64 = 1.0 / 1.0 - 1.0 / 2.0;
+/// Veach's bound factor (1 / min_i n_i - 1 / sum_i n_i) for sample counts `n`.
+fn veach_bound(n: &[f64]) -> f64 {
+    1.0 / n.iter().copied().fold(f64::INFINITY, f64::min) - 1.0 / n.iter().sum::<f64>()
+}
+
+/// Veach's bound for one light and one BSDF sample: 1/2.
+const VEACH_BOUND: f64 = 0.5;
 
 /// Veach's bound (MIS-NOTES section 1) as a one-sided z-test: V[F_balance] - V[F_other] <= c mu^2
 /// for any other weighting with the same sample counts, from the two runs' sample variances.
@@ -751,6 +756,7 @@ fn below_horizon() -> Case {
 /// power heuristic beats balance and the average is far worse than both.
 #[test]
 fn veach_bound_check_can_fail() {
+    assert_eq!(veach_bound(&[1.0, 1.0]), VEACH_BOUND);
     let case = grazing_view_lambert();
     let Reference::Exact(mu) = case.reference else { unreachable!("the case has a closed form") };
     let total = |col: Col, k: u32| run(&case, &col.settings(case.selection), 16 * 900 + k, case.n).total;
