@@ -19,8 +19,8 @@ use crate::scene::{Hit, Scene};
 use crate::shape::Shape;
 
 /// A closed form is trusted when its value is at least this fraction of the sum of the magnitudes
-/// of its terms (at most ~1e-5 relative rounding error from cancellation).
-pub const MIN_RELATIVE: f32 = 1e-2;
+/// of its terms (at most ~1e-4 relative rounding error from cancellation, typically 1e-6).
+pub const MIN_RELATIVE: f32 = 1e-3;
 
 /// Projected solid angle of `shape`'s front side from `x` with unit normal `n` (see the module
 /// docs); `None` where no closed form is trusted.

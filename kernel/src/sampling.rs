@@ -114,7 +114,7 @@ pub struct SphericalRectangle {
 
 /// The relative size below which a spherical rectangle's solid angle is not trusted (see
 /// [`spherical_rectangle`]).
-pub const SPHERICAL_RECTANGLE_MIN_RELATIVE: f32 = 1e-2;
+pub const SPHERICAL_RECTANGLE_MIN_RELATIVE: f32 = 1e-3;
 /// The smallest solid angle sampled as a spherical rectangle.
 pub const SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE: f32 = 1e-6;
 
@@ -124,7 +124,7 @@ pub const SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE: f32 = 1e-6;
 /// area. The solid angle is the sum of the corners' angles minus 2 pi, computed as the sum of
 /// delta_i = g_i - pi/2 = atan2(s x y, |z0| |v|) at each corner v = (x, y, z0) (s = +1 at (x1, y1)
 /// and (x0, y0), -1 at the others): no acos and no cancellation against 2 pi. It is trusted when
-/// it is at least 1e-6 sr and at least 1e-2 of sum |delta_i| (cancellation between the corners'
+/// it is at least 1e-6 sr and at least 1e-3 of sum |delta_i| (cancellation between the corners'
 /// terms, for rectangles seen far off their axis). The test is on f32 values computed the same
 /// way everywhere, so the host and a Cortex-M make the same choice.
 #[inline]

@@ -29,8 +29,8 @@
 //! suite). docs/stability.md holds one such table with a lesson per case.
 
 use picomis::{
-    Film, Heuristic, Hit, LightSelection, Material, MaterialId, Method, Ray, RenderSettings, Rgb, Scene,
-    Shape, SphereSampling, Technique, Vec3,
+    ControlVariate, Film, Heuristic, Hit, LightSelection, Material, MaterialId, Method, QuadSampling, Ray,
+    RenderSettings, Rgb, Scene, Shape, SphereSampling, Technique, Vec3,
 };
 use picomis_tests::{
     DVec3, DirectStats, Stats, camera, check_unbiased, check_z, d3, direct_stats, floor_corners,
@@ -152,6 +152,9 @@ struct Case {
     points: Vec<(Hit, Vec3)>,
     n: u32,
     selection: LightSelection,
+    /// Quad-light sampling and control variate of every method of the case.
+    quads: QuadSampling,
+    control_variate: ControlVariate,
     reference: Reference,
     /// Methods not checked with [`Check::Total`], and why.
     except: Vec<(Col, Check, &'static str)>,
@@ -171,6 +174,8 @@ impl Case {
             points,
             n: N,
             selection: LightSelection::Uniform,
+            quads: QuadSampling::Area,
+            control_variate: ControlVariate::Off,
             reference,
             except: Vec::new(),
             anchor: None,
@@ -184,6 +189,23 @@ impl Case {
 
     fn selection(mut self, selection: LightSelection) -> Self {
         self.selection = selection;
+        self
+    }
+
+    /// The same case with quads sampled in solid angle, labelled so.
+    fn solid_angle(mut self) -> Self {
+        self.quads = QuadSampling::SolidAngle;
+        self.label += ", quads by solid angle";
+        self.except.clear();
+        self
+    }
+
+    /// The same case with the analytic control variate, labelled so (with no occluder, every
+    /// method then gets the closed form wherever the kernel has one).
+    fn control_variate(mut self) -> Self {
+        self.control_variate = ControlVariate::On;
+        self.label += ", control variate";
+        self.except.clear();
         self
     }
 
@@ -293,6 +315,7 @@ struct Run {
 }
 
 fn run(case: &Case, settings: &RenderSettings, stream: u32, n: u32) -> Run {
+    let settings = &settings.with_quad_sampling(case.quads).with_control_variate(case.control_variate);
     let k = case.points.len() as u32;
     let mut st = DirectStats::default();
     for (j, (hit, wo)) in case.points.iter().enumerate() {
@@ -662,6 +685,21 @@ fn huge_quad() -> Case {
             Check::Part(Technique::Bsdf, 0.5),
             "the light half of the average is as unreachable as light sampling; the BSDF half (0.5 ref) is asserted",
         )
+}
+
+#[test]
+fn quads_by_solid_angle_and_control_variate() {
+    run_group(
+        6,
+        vec![
+            huge_quad().solid_angle(),
+            lit_quad().solid_angle(),
+            lit_quad().control_variate(),
+            lit_sphere().control_variate(),
+            below_horizon().control_variate(),
+            huge_quad().control_variate(),
+        ],
+    );
 }
 
 #[test]
