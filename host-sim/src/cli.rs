@@ -154,9 +154,52 @@ pub struct FigureArgs {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
+    /// Beyond the lecture: applied to every render of the figure.
+    #[command(flatten)]
+    pub extras: ExtrasArgs,
     /// Output PNG (default: `<scene name>_figure.png` here).
     #[arg(long, value_name = "FILE.png")]
     pub out: Option<PathBuf>,
+}
+
+/// The options beyond the lecture (issue 14), for commands that apply them to several renders.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ExtrasArgs {
+    /// MIS model: multi-sample or one-sample.
+    #[arg(long, value_enum, default_value_t = MisModelArg::Multi)]
+    pub mis_model: MisModelArg,
+    /// Probability of the light technique in the one-sample model, in [0, 1].
+    #[arg(long, value_name = "C", default_value_t = picomis::model::DEFAULT_C_LIGHT, allow_negative_numbers = true)]
+    pub c_light: f32,
+    /// How quad lights are sampled.
+    #[arg(long, value_enum, default_value_t = QuadSamplingArg::Area)]
+    pub quad_sampling: QuadSamplingArg,
+    /// Unoccluded light of quad and sphere lights on Lambertian surfaces in closed form.
+    #[arg(long, value_enum, default_value_t = OnOff::Off)]
+    pub control_variate: OnOff,
+}
+
+impl ExtrasArgs {
+    /// The study's form of these options (validated: `c_light` in [0, 1]).
+    pub fn extras(&self) -> Result<crate::study::Extras, SimError> {
+        let name = match self.mis_model {
+            MisModelArg::Multi => "multi",
+            MisModelArg::One => "one",
+        };
+        let model = parse_mis_model(name, self.c_light)
+            .map_err(|e| SimError::Usage(format!("--mis-model {name} --c-light {}: {e}", self.c_light)))?;
+        Ok(crate::study::Extras {
+            model,
+            quads: match self.quad_sampling {
+                QuadSamplingArg::Area => QuadSampling::Area,
+                QuadSamplingArg::SolidAngle => QuadSampling::SolidAngle,
+            },
+            control_variate: match self.control_variate {
+                OnOff::On => ControlVariate::On,
+                OnOff::Off => ControlVariate::Off,
+            },
+        })
+    }
 }
 
 /// Runs a parsed command line.
@@ -357,7 +400,7 @@ fn figure(args: &FigureArgs) -> Result<(), SimError> {
     if check_output(&out).map_err(SimError::Usage)? != Format::Png {
         return Err(SimError::Usage(format!("{}: the figure is written as PNG (.png)", out.display())));
     }
-    let (canvas, batch) = render_figure(&loaded, args.spp, args.seed)?;
+    let (canvas, batch) = render_figure(&loaded, args.spp, args.seed, &args.extras.extras()?)?;
     let bytes = encode_png(canvas.width, canvas.height, &canvas.bytes()).map_err(SimError::Io)?;
     write_atomic(&out, &bytes).map_err(SimError::Io)?;
     let secs = batch.elapsed.as_secs_f64();
