@@ -261,6 +261,21 @@ fn describe(m: Method) -> String {
     }
 }
 
+/// The options beyond the lecture that differ from their defaults, for the summary line.
+fn extras_note(s: &RenderSettings) -> String {
+    let mut note = String::new();
+    if let MisModel::One { c_light } = s.mis_model() {
+        note += &format!(", one-sample model (c_light {c_light})");
+    }
+    if s.quad_sampling() == QuadSampling::SolidAngle {
+        note += ", quads by solid angle";
+    }
+    if s.control_variate() == ControlVariate::On {
+        note += ", control variate";
+    }
+    note
+}
+
 /// The render settings from the scene's integrator block overridden by the flags.
 pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, SimError> {
     let usage = SimError::Usage;
@@ -381,7 +396,7 @@ fn render(args: &RenderArgs) -> Result<(), SimError> {
         film.width(),
         film.height(),
         settings.spp(),
-        describe(settings.method()),
+        describe(settings.method()) + &extras_note(&settings),
         secs,
         rate(batch.camera_samples, secs),
         out.display()
