@@ -126,9 +126,16 @@ impl RenderSettings {
     pub fn method(&self) -> Method {
         self.method
     }
-    /// Light and BSDF samples actually drawn per camera sample.
+    /// Light and BSDF samples actually drawn per camera sample (in the one-sample model: at most
+    /// one of either, whatever the counts, as `c_light` allows).
     pub fn technique_samples(&self) -> (u16, u16) {
-        self.method.sample_counts(self.light_samples, self.bsdf_samples)
+        match self.model {
+            MisModel::Multi => self.method.sample_counts(self.light_samples, self.bsdf_samples),
+            MisModel::One { .. } => {
+                let c = self.c_light();
+                (u16::from(c > 0.0), u16::from(c < 1.0))
+            }
+        }
     }
     /// Camera samples per pixel.
     pub fn spp(&self) -> u32 {

@@ -44,9 +44,9 @@ use embedded_graphics_core::primitives::{PointsIter, Rectangle};
 use picomis::math::Frame;
 use picomis::sampling::{sample_cosine_hemisphere, sample_uniform_sphere};
 use picomis::{
-    CameraDesc, Estimate, Film, FovAxis, Heuristic, Light, LightSelection, Material, Method, Ray,
-    RenderSettings, Rgb, Sampler, Scene, Shape, SphereSampling, SurfacePoint, Vec3, render, render_pixel,
-    render_tile, tiles, tone_map,
+    CameraDesc, Estimate, Film, FovAxis, Heuristic, Light, LightSelection, Material, Method, MisModel,
+    QuadSampling, Ray, RenderSettings, Rgb, Sampler, Scene, Shape, SphereSampling, SurfacePoint, Vec3,
+    render, render_pixel, render_tile, tiles, tone_map,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseResult, TestRng, TestRunner};
@@ -251,13 +251,20 @@ fn heuristic() -> impl Strategy<Value = Heuristic> {
 fn settings() -> impl Strategy<Value = RenderSettings> {
     let method =
         prop_oneof![Just(Method::LightOnly), Just(Method::BsdfOnly), heuristic().prop_map(Method::Mis)];
-    (method, 0u16..=3, 0u16..=3, 1u32..=3, any::<u32>(), any::<bool>(), any::<bool>()).prop_map(
-        |(method, n_light, n_bsdf, spp, seed, cone, by_power)| {
+    // The one-sample model (with any c, 0 and 1 included) and quads by solid angle are mixed in.
+    let model =
+        prop_oneof![Just(MisModel::Multi), (0.0f32..=1.0).prop_map(|c_light| MisModel::One { c_light })];
+    let options = (any::<bool>(), any::<bool>(), model, any::<bool>());
+    (method, 0u16..=3, 0u16..=3, 1u32..=3, any::<u32>(), options).prop_map(
+        |(method, n_light, n_bsdf, spp, seed, (cone, by_power, model, solid_angle))| {
             let s = RenderSettings::new(method, n_light, n_bsdf, spp, seed)
                 .or_else(|_| RenderSettings::new(method, n_light.max(1), n_bsdf.max(1), spp, seed))
                 .unwrap();
             s.with_sphere_sampling(if cone { SphereSampling::Cone } else { SphereSampling::Area })
                 .with_light_selection(if by_power { LightSelection::Power } else { LightSelection::Uniform })
+                .with_quad_sampling(if solid_angle { QuadSampling::SolidAngle } else { QuadSampling::Area })
+                .with_mis_model(model)
+                .unwrap()
         },
     )
 }
