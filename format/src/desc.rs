@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use picomis::{CameraDesc, Film, FovAxis, Material, Rgb, SceneError, Vec3};
 use serde::Deserialize;
 
-use crate::{Counts, Geometry, LoadError, SceneFile, Step, check_camera, parse_method};
+use crate::{Counts, Geometry, LoadError, SceneFile, Step, check_camera};
 
 const FORMAT: &str = "picomis-scene/1";
 
@@ -90,10 +90,12 @@ struct IntegratorDesc {
     #[serde(default)]
     hide_emitters: bool,
     mis: String,
-    #[serde(default = "default_beta")]
-    beta: f32,
-    #[serde(default = "default_alpha")]
-    alpha: f32,
+    /// The power heuristic's exponent (default: the kernel's).
+    #[serde(default)]
+    beta: Option<f32>,
+    /// The cutoff heuristic's threshold (default: the kernel's).
+    #[serde(default)]
+    alpha: Option<f32>,
     /// `multi` (default) or `one`: the MIS sampling model.
     #[serde(default = "default_mis_model")]
     mis_model: String,
@@ -108,14 +110,6 @@ fn default_mis_model() -> String {
 
 fn default_c_light() -> f32 {
     picomis::model::DEFAULT_C_LIGHT
-}
-
-fn default_beta() -> f32 {
-    2.0
-}
-
-fn default_alpha() -> f32 {
-    0.1
 }
 
 #[derive(Deserialize)]
@@ -275,7 +269,10 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
     if ig.hide_emitters {
         return Err(fail("integrator.hide_emitters", "hiding emitters is not supported (use false)".into()));
     }
-    let method = parse_method(&ig.mis, ig.beta, ig.alpha).map_err(|r| fail("integrator.mis", r))?;
+    let method = picomis::Method::from_name(&ig.mis)
+        .map_err(|e| e.to_string())
+        .and_then(|m| m.with_parameters(ig.beta, ig.alpha).map_err(|e| e.to_string()))
+        .map_err(|r| fail("integrator.mis", r))?;
     let model =
         crate::parse_mis_model(&ig.mis_model, ig.c_light).map_err(|r| fail("integrator.mis_model", r))?;
     picomis::RenderSettings::new(method, ig.emitter_samples, ig.bsdf_samples, 1, 0)

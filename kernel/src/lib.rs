@@ -67,7 +67,7 @@ pub use estimator::{
 pub use light::{Light, LightSample, LightSelection, QuadSampling, SphereSampling};
 pub use material::{BsdfSample, Material};
 pub use math::{Rgb, Vec2, Vec3};
-pub use mis::{Heuristic, Method, Technique};
+pub use mis::{Heuristic, Method, ParseMethodError, Technique, UnknownMethod};
 pub use model::MisModel;
 pub use render::{RenderStats, camera_sample, film_rect, render, render_pixel, render_tile, tiles, tone_map};
 pub use rng::Sampler;
