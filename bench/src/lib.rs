@@ -248,7 +248,7 @@ mod tests {
         let s = synthetic_scene(0, 16, 16);
         for (i, j) in [(0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (0.0, 0.5), (1.0, 0.5)] {
             let (ray, _) = s.camera().ray(picomis::Vec2::new(i, j));
-            assert!(s.intersect(&ray, 0.0, f32::INFINITY, None).is_none_or(|h| h.object == 0));
+            assert!(s.intersect(&ray, 0.0, f32::INFINITY, None).is_none_or(|h| h.object.index() == 0));
         }
         assert_eq!(methods().len(), 8);
     }

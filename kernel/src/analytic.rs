@@ -135,11 +135,10 @@ pub fn unoccluded_light<const S: usize, const L: usize, const M: usize>(
     let (mut covered, mut sum) = (0u64, Rgb::ZERO);
     for (i, light) in scene.lights().iter().enumerate().take(64) {
         let Light::Area { shape, radiance } = *light else { continue };
-        let object = usize::from(shape);
-        if object == x.object {
+        if shape == x.object {
             continue;
         }
-        let Some(shape) = scene.objects().get(object).map(|o| &o.shape) else { continue };
+        let Some(shape) = scene.objects().get(shape.index()).map(|o| &o.shape) else { continue };
         if let Some(omega) = projected_solid_angle(shape, x.point.p, x.point.n) {
             covered |= 1 << i;
             sum += radiance * omega;

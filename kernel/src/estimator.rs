@@ -1,15 +1,18 @@
-//! The MIS direct-lighting estimator of the seed lecture, multi-sample model (and the one-sample
-//! model of Veach and Guibas 1995, section 4, see [`crate::model`]):
+//! The MIS direct-lighting estimator of the lecture (Veach and Guibas 1995), multi-sample model
+//! (and the one-sample model of section 4, see [`crate::model`]):
 //!
 //! F = 1/n_l sum_j w_l(X_j) f(X_j)/p_l(X_j) + 1/n_b sum_j w_b(Y_j) f(Y_j)/p_b(Y_j),
 //!
-//! with f = L_e f_r cos(theta_i) over directions at the shading point, p_l the light technique's
-//! pdf converted to solid angle (selection included), p_b the BSDF's pdf, and w the weights of
-//! [`Method`](crate::Method) on q_i = n_i p_i. Each technique's weighted contribution and weights
-//! are kept apart, so the seed's weight and contribution images come from this one function.
+//! with f = L_e f_r cos(theta_i) over directions at the shading point, p_l = P(light) p_w the light
+//! technique's pdf (the light sampler's selection probability times its pdf per unit solid angle),
+//! p_b the BSDF's pdf, and w the weights of [`Method`](crate::Method) on q_i = n_i p_i. Each
+//! technique's weighted contribution and weights are kept apart, so the lecture's weight and
+//! contribution images come from this one function.
 
 use crate::analytic;
+use crate::ids::LightId;
 use crate::light::Light;
+use crate::light_sampler::{LightSampler, ShadingPoint};
 use crate::material::Material;
 use crate::math::{Frame, Rgb, Vec2, Vec3, finite3};
 use crate::mis::Technique;
@@ -149,7 +152,7 @@ pub fn estimate_direct_multi_sample<const S: usize, const L: usize, const M: usi
     let (n_l, n_b) = settings.technique_samples();
     let (n_light, n_bsdf) = (f32::from(n_l), f32::from(n_b));
 
-    // Technique 1, light sampling: y on a light, visibility, w_l L_e f cos / (n_l p_l).
+    // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
     for _ in 0..n_l {
         let Some(s) = light_sample(scene, settings, at, sampler) else { continue };
         // A delta light cannot be hit by a BSDF sample: its weight is one.
@@ -211,6 +214,8 @@ pub struct Shading<'a> {
     frame: Frame,
     /// `wo` in the local frame.
     wo: Vec3,
+    /// The shading point as the light sampler sees it (world `wo`).
+    point: ShadingPoint,
     /// The control variate applies here (it is on and the receiver is Lambertian).
     control_variate: bool,
     /// Bit i: light i's unoccluded part is in closed form here.
@@ -230,19 +235,31 @@ impl<'a> Shading<'a> {
     ) -> Option<Self> {
         let bsdf = scene.material(x.object).filter(|m| !m.is_black())?;
         let frame = Frame::from_normal(x.point.n);
+        let point = ShadingPoint { p: x.point.p, n: x.point.n, wo };
         let wo = frame.to_local(wo);
         let control_variate =
             settings.control_variate() == ControlVariate::On && matches!(bsdf, Material::Lambertian { .. });
         let (covered, unoccluded) =
             if control_variate { analytic::unoccluded_light(scene, bsdf, x, wo.z) } else { (0, Rgb::ZERO) };
-        Some(Shading { x, bsdf, frame, wo, control_variate, covered, unoccluded })
+        Some(Shading { x, bsdf, frame, wo, point, control_variate, covered, unoccluded })
     }
 
     /// Whether light `light`'s part is sampled as f (V - 1) (its unoccluded part is in closed form).
     #[inline]
-    fn analytic(&self, light: Option<usize>) -> bool {
-        light.is_some_and(|i| i < 64 && self.covered & (1 << i) != 0)
+    fn analytic(&self, light: LightId) -> bool {
+        let i = light.index();
+        i < 64 && self.covered & (1 << i) != 0
     }
+}
+
+/// The light sampler of the settings' strategies.
+#[inline]
+fn light_sampler<'a, const S: usize, const L: usize, const M: usize>(
+    scene: &'a Scene<S, L, M>,
+    settings: &RenderSettings,
+) -> LightSampler<'a, S, L, M> {
+    LightSampler::new(scene, settings.light_selection(), settings.sphere_sampling())
+        .with_quad_sampling(settings.quad_sampling())
 }
 
 /// A sample that found light: its integrand value (not divided by any pdf for light samples;
@@ -263,26 +280,27 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
     at: &Shading<'_>,
     sampler: &mut Sampler,
 ) -> Option<Found> {
-    let (spheres, quads, selection) =
-        (settings.sphere_sampling(), settings.quad_sampling(), settings.light_selection());
+    let lights = light_sampler(scene, settings);
     let p = at.x.point.p;
     let u_select = sampler.next_f32();
     let u: Vec2 = sampler.next_2d();
-    let (ls, light_object) = scene.sample_light(p, u_select, u, spheres, quads, selection)?;
+    let chosen = lights.select(&at.point, u_select)?;
+    let ls = lights.sample(chosen.light, p, u)?;
+    // The light technique's pdf of this direction: p_l = P(light) p_w(wi | light).
+    let p_light = chosen.probability * ls.pdf;
     let wi = at.frame.to_local(ls.wi);
     let (f, p_bsdf) = at.bsdf.eval_pdf(at.wo, wi);
     if f == Rgb::ZERO || ls.radiance == Rgb::ZERO {
         return None;
     }
     let shadow = Ray { origin: p, dir: ls.wi };
-    let visible = scene.unoccluded(&shadow, ls.distance, at.x.object, light_object);
-    let light = light_object.and_then(|o| scene.emitter(o)).map(|(i, _)| i);
-    let value = match (at.analytic(light), visible) {
+    let visible = scene.unoccluded(&shadow, ls.distance, at.x.object, ls.emitter);
+    let value = match (at.analytic(chosen.light), visible) {
         (false, true) => f * ls.radiance,
         (true, false) => -(f * ls.radiance),
         (false, false) | (true, true) => return None,
     };
-    Some(Found { value, pdf: ls.pdf, pdf_other: p_bsdf, delta: ls.delta })
+    Some(Found { value, pdf: p_light, pdf_other: p_bsdf, delta: ls.delta })
 }
 
 /// One BSDF sample: wi ~ p_b, traced; `found` is called for each light it counts for, with
@@ -297,8 +315,7 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     sampler: &mut Sampler,
     mut found: impl FnMut(Found),
 ) {
-    let (spheres, quads, selection) =
-        (settings.sphere_sampling(), settings.quad_sampling(), settings.light_selection());
+    let lights = light_sampler(scene, settings);
     let p = at.x.point.p;
     let Some(bs) = at.bsdf.sample(at.wo, sampler.next_2d()) else { return };
     let ray = Ray { origin: p, dir: at.frame.to_world(bs.wi) };
@@ -308,24 +325,24 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     // grazing near-mirror angles; the sample's f / p_b, `bs.weight`, uses the exact one.)
     let pdf = || at.bsdf.pdf(at.wo, bs.wi);
     if !at.control_variate {
-        let Some((y, light_index, radiance)) = scene.emitter_hit(&ray, at.x.object) else { return };
+        let Some((y, light, radiance)) = scene.emitter_hit(&ray, at.x.object) else { return };
         if radiance == Rgb::ZERO {
             return;
         }
         let pdf = pdf();
-        let pdf_other = scene.light_pdf(light_index, p, &y.point, spheres, quads, selection);
+        let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, p, &y.point);
         found(Found { value: bs.weight * radiance, pdf, pdf_other, delta: false });
         return;
     }
     let pdf = pdf();
-    scene.emitters_along(&ray, at.x.object, |y, light_index, radiance, visible| {
-        let value = match (at.analytic(Some(light_index)), visible) {
+    scene.emitters_along(&ray, at.x.object, |y, light, radiance, visible| {
+        let value = match (at.analytic(light), visible) {
             (false, true) => bs.weight * radiance,
             (true, false) => -(bs.weight * radiance),
             (false, false) | (true, true) => return,
         };
         if radiance != Rgb::ZERO {
-            let pdf_other = scene.light_pdf(light_index, p, &y.point, spheres, quads, selection);
+            let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, p, &y.point);
             found(Found { value, pdf, pdf_other, delta: false });
         }
     });

@@ -46,7 +46,9 @@ pub mod analytic;
 pub mod camera;
 pub mod error;
 pub mod estimator;
+pub mod ids;
 pub mod light;
+pub mod light_sampler;
 pub mod material;
 pub mod math;
 pub mod mis;
@@ -64,13 +66,17 @@ pub use estimator::{
     Estimate, Shading, TechniqueEstimate, estimate_direct, estimate_direct_multi_sample,
     estimate_direct_one_sample, trace,
 };
-pub use light::{Light, LightSample, LightSelection, QuadSampling, SphereSampling};
+pub use ids::{LightId, MaterialId, ShapeId};
+pub use light::{Emission, Light};
+pub use light_sampler::{
+    LightChoice, LightSample, LightSampler, LightSelection, QuadSampling, ShadingPoint, SphereSampling,
+};
 pub use material::{BsdfSample, Material};
 pub use math::{Rgb, Vec2, Vec3};
 pub use mis::{Heuristic, Method, ParseMethodError, Technique, UnknownMethod};
 pub use model::MisModel;
 pub use render::{RenderStats, camera_sample, film_rect, render, render_pixel, render_tile, tiles, tone_map};
 pub use rng::Sampler;
-pub use scene::{Hit, LightId, MaterialId, Object, Scene, ShapeId};
+pub use scene::{Hit, Object, Scene};
 pub use settings::{ControlVariate, RenderSettings};
 pub use shape::{Ray, Shape, SurfacePoint};

@@ -1,53 +1,27 @@
 //! A scene in fixed-capacity storage: `S` shapes, `L` lights, `M` materials, chosen by the user
 //! of the kernel (a firmware build uses exactly its scene's counts). Every value is validated as
-//! it is added; a full collection is an error, never a panic.
+//! it is added; a full collection is an error, never a panic. The scene builds and answers ray
+//! queries; choosing and sampling lights is the light sampler's job
+//! ([`LightSampler`](crate::light_sampler::LightSampler)).
 
 use heapless::Vec;
 
 use crate::camera::{Camera, CameraDesc, Film};
-use crate::error::{Collection, Field, SceneError};
-use crate::light::{Light, LightSample, LightSelection, QuadSampling, SphereSampling};
+use crate::error::{Collection, SceneError};
+use crate::ids::{LightId, MaterialId, ShapeId};
+use crate::light::Light;
 use crate::material::Material;
-use crate::math::{Rgb, Vec2, Vec3, finite3};
-use crate::sampling::{discrete_pdf, sample_discrete};
+use crate::math::{Rgb, Vec3};
+use crate::sampling::GridDistribution;
 use crate::shape::{Ray, Shape, SurfacePoint};
-
-/// Index of a material in its scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct MaterialId(u16);
-
-/// Index of a shape in its scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ShapeId(u16);
-
-/// Index of a light in its scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct LightId(u16);
-
-impl ShapeId {
-    /// The index.
-    pub fn index(self) -> usize {
-        usize::from(self.0)
-    }
-}
-
-impl LightId {
-    /// The index.
-    pub fn index(self) -> usize {
-        usize::from(self.0)
-    }
-}
 
 /// A shape with its material and, if it emits, its light.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Object {
     /// Geometry.
     pub shape: Shape,
-    material: u16,
-    light: Option<u16>,
+    material: MaterialId,
+    light: Option<LightId>,
 }
 
 /// The first surface a ray meets.
@@ -55,8 +29,8 @@ pub struct Object {
 pub struct Hit {
     /// Distance along the ray.
     pub t: f32,
-    /// Index of the object hit.
-    pub object: usize,
+    /// The object (shape) hit.
+    pub object: ShapeId,
     /// Position and front-side normal.
     pub point: SurfacePoint,
     /// True when the ray arrived on the front side.
@@ -72,17 +46,7 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     materials: Vec<Material, M>,
     lights: Vec<Light, L>,
     light_power: Vec<f32, L>,
-    total_power: f32,
-}
-
-fn check_emission(c: Rgb, field: Field) -> Result<(), SceneError> {
-    if !finite3(c) {
-        return Err(SceneError::NonFinite(field));
-    }
-    if c.min_element() < 0.0 {
-        return Err(SceneError::OutOfRange(field));
-    }
-    Ok(())
+    power_selection: GridDistribution<L>,
 }
 
 fn index16(len: usize, what: Collection) -> Result<u16, SceneError> {
@@ -99,7 +63,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             materials: Vec::new(),
             lights: Vec::new(),
             light_power: Vec::new(),
-            total_power: 0.0,
+            power_selection: GridDistribution::default(),
         })
     }
 
@@ -114,44 +78,39 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     pub fn add_material(&mut self, material: Material) -> Result<MaterialId, SceneError> {
         let id = index16(self.materials.len(), Collection::Materials)?;
         self.materials.push(material).map_err(|_| SceneError::CapacityExceeded(Collection::Materials))?;
-        Ok(MaterialId(id))
+        Ok(MaterialId::new(id))
     }
 
     /// Adds a shape that reflects with `material`.
     pub fn add_shape(&mut self, shape: Shape, material: MaterialId) -> Result<ShapeId, SceneError> {
-        if usize::from(material.0) >= self.materials.len() {
+        if material.index() >= self.materials.len() {
             return Err(SceneError::UnknownMaterial);
         }
         let id = index16(self.objects.len(), Collection::Shapes)?;
         self.objects
-            .push(Object { shape, material: material.0, light: None })
+            .push(Object { shape, material, light: None })
             .map_err(|_| SceneError::CapacityExceeded(Collection::Shapes))?;
-        Ok(ShapeId(id))
+        Ok(ShapeId::new(id))
     }
 
     /// Makes shape `shape` an area emitter of constant `radiance` on its front side.
     pub fn add_area_light(&mut self, shape: ShapeId, radiance: Rgb) -> Result<LightId, SceneError> {
-        check_emission(radiance, Field::Radiance)?;
+        let light = Light::area(shape, radiance)?;
         let object = self.objects.get(shape.index()).ok_or(SceneError::UnknownShape)?;
         if object.light.is_some() {
             return Err(SceneError::AlreadyEmitting);
         }
-        let light = Light::Area { shape: shape.0, radiance };
         let power = light.power(Some(&object.shape));
         let id = self.push_light(light, power)?;
         if let Some(object) = self.objects.get_mut(shape.index()) {
-            object.light = Some(id.0);
+            object.light = Some(id);
         }
         Ok(id)
     }
 
     /// Adds a point light of radiant `intensity` at `position`.
     pub fn add_point_light(&mut self, position: Vec3, intensity: Rgb) -> Result<LightId, SceneError> {
-        if !finite3(position) {
-            return Err(SceneError::NonFinite(Field::Position));
-        }
-        check_emission(intensity, Field::Intensity)?;
-        let light = Light::Point { position, intensity };
+        let light = Light::point(position, intensity)?;
         self.push_light(light, light.power(None))
     }
 
@@ -160,8 +119,8 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         let full = SceneError::CapacityExceeded(Collection::Lights);
         self.lights.push(light).map_err(|_| full)?;
         self.light_power.push(power).map_err(|_| full)?;
-        self.total_power = self.light_power.iter().sum();
-        Ok(LightId(id))
+        self.power_selection = GridDistribution::new(&self.light_power);
+        Ok(LightId::new(id))
     }
 
     /// The camera.
@@ -185,33 +144,45 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         &self.materials
     }
 
+    /// Light `light`.
+    #[inline]
+    pub fn light(&self, light: LightId) -> Option<&Light> {
+        self.lights.get(light.index())
+    }
+
+    /// Each light's share of the emitted power, as light selection by power draws it.
+    #[inline]
+    pub fn light_powers(&self) -> &GridDistribution<L> {
+        &self.power_selection
+    }
+
     /// The material of object `object`.
     #[inline]
-    pub fn material(&self, object: usize) -> Option<&Material> {
-        let o = self.objects.get(object)?;
-        self.materials.get(usize::from(o.material))
+    pub fn material(&self, object: ShapeId) -> Option<&Material> {
+        let o = self.objects.get(object.index())?;
+        self.materials.get(o.material.index())
     }
 
     /// The light an object emits as, if any.
     #[inline]
-    pub fn emitter(&self, object: usize) -> Option<(usize, &Light)> {
-        let i = usize::from(self.objects.get(object)?.light?);
-        Some((i, self.lights.get(i)?))
+    pub fn emitter(&self, object: ShapeId) -> Option<(LightId, &Light)> {
+        let id = self.objects.get(object.index())?.light?;
+        Some((id, self.lights.get(id.index())?))
     }
 
     /// The shape a light emits from (area lights).
     #[inline]
     pub fn light_shape(&self, light: &Light) -> Option<&Shape> {
         match light {
-            Light::Area { shape, .. } => self.objects.get(usize::from(*shape)).map(|o| &o.shape),
+            Light::Area { shape, .. } => self.objects.get(shape.index()).map(|o| &o.shape),
             Light::Point { .. } => None,
         }
     }
 
     /// The nearest hit in `(t_min, t_max)`, ignoring object `skip`.
     #[inline]
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, skip: Option<usize>) -> Option<Hit> {
-        let skip = skip.unwrap_or(usize::MAX);
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, skip: Option<ShapeId>) -> Option<Hit> {
+        let skip = skip.map_or(usize::MAX, ShapeId::index);
         let (mut t_far, mut best) = (t_max, usize::MAX);
         for (i, o) in self.objects.iter().enumerate() {
             if i != skip {
@@ -230,15 +201,17 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         let shape = &self.objects.get(object)?.shape;
         let p = ray.at(t);
         let n = shape.normal_at(p);
+        let object = ShapeId::new(object as u16); // < S, and S shapes have u16 indices
         Some(Hit { t, object, point: SurfacePoint { p, n }, front: n.dot(ray.dir) < 0.0 })
     }
 
     /// The first surface along `ray` (ignoring object `skip`) if it is an emitter's front side:
-    /// the emitting hit, its light index and radiance. Cheaper than [`Scene::intersect`]: the
+    /// the emitting hit, its light and radiance. Cheaper than [`Scene::intersect`]: the
     /// closest emitter is found first, then only an any-hit occlusion test by the other objects
     /// runs up to it, so rays that miss every light test only the emitters.
     #[inline]
-    pub fn emitter_hit(&self, ray: &Ray, skip: usize) -> Option<(Hit, usize, Rgb)> {
+    pub fn emitter_hit(&self, ray: &Ray, skip: ShapeId) -> Option<(Hit, LightId, Rgb)> {
+        let skip = skip.index();
         let (mut t_far, mut best) = (f32::INFINITY, usize::MAX);
         for (i, o) in self.objects.iter().enumerate() {
             if o.light.is_some() && i != skip {
@@ -258,36 +231,36 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
                 return None;
             }
         }
-        let light_index = usize::from(self.objects.get(best)?.light?);
-        match self.lights.get(light_index)? {
-            Light::Area { radiance, .. } => Some((hit, light_index, *radiance)),
+        let light = self.objects.get(best)?.light?;
+        match self.lights.get(light.index())? {
+            Light::Area { radiance, .. } => Some((hit, light, *radiance)),
             Light::Point { .. } => None,
         }
     }
 
     /// Calls `f` for every emitter whose front side `ray` meets (ignoring object `skip`), with the
-    /// hit, the light index, its radiance, and whether it is the first surface on the ray
-    /// (visible). For the control variate, which needs the lights behind occluders too.
+    /// hit, the light, its radiance, and whether it is the first surface on the ray (visible).
+    /// For the control variate, which needs the lights behind occluders too.
     #[inline]
-    pub fn emitters_along(&self, ray: &Ray, skip: usize, mut f: impl FnMut(Hit, usize, Rgb, bool)) {
+    pub fn emitters_along(&self, ray: &Ray, skip: ShapeId, mut f: impl FnMut(Hit, LightId, Rgb, bool)) {
         let nearest = self.intersect(ray, 0.0, f32::INFINITY, Some(skip)).map(|h| h.object);
         for (i, o) in self.objects.iter().enumerate() {
-            let Some(light_index) = o.light.map(usize::from) else { continue };
-            if i == skip {
+            let Some(light) = o.light else { continue };
+            if i == skip.index() {
                 continue;
             }
             let Some(t) = o.shape.intersect(ray, 0.0, f32::INFINITY) else { continue };
             let Some(hit) = self.hit(ray, t, i).filter(|h| h.front) else { continue };
-            if let Some(Light::Area { radiance, .. }) = self.lights.get(light_index) {
-                f(hit, light_index, *radiance, nearest == Some(i));
+            if let Some(Light::Area { radiance, .. }) = self.lights.get(light.index()) {
+                f(hit, light, *radiance, nearest == Some(hit.object));
             }
         }
     }
 
     /// True when nothing but objects `a` and `b` lies on the ray before `t_max`.
     #[inline]
-    pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: usize, b: Option<usize>) -> bool {
-        let b = b.unwrap_or(usize::MAX);
+    pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: ShapeId, b: Option<ShapeId>) -> bool {
+        let (a, b) = (a.index(), b.map_or(usize::MAX, ShapeId::index));
         for (i, o) in self.objects.iter().enumerate() {
             if i != a && i != b && o.shape.intersect(ray, 0.0, t_max).is_some() {
                 return false;
@@ -295,82 +268,13 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         }
         true
     }
-
-    /// Chooses a light for a light sample: its index and selection probability.
-    #[inline]
-    pub fn select_light(&self, u: f32, selection: LightSelection) -> Option<(usize, f32)> {
-        let n = self.lights.len();
-        if n == 0 {
-            return None;
-        }
-        if let LightSelection::Power = selection {
-            if let Some(pick) = sample_discrete(&self.light_power, self.total_power, u) {
-                return Some(pick);
-            }
-        }
-        // Uniform (also when no light has power).
-        let i = ((u * n as f32) as usize).min(n - 1);
-        Some((i, 1.0 / n as f32))
-    }
-
-    /// Probability that [`Scene::select_light`] picks light `i`.
-    #[inline]
-    pub fn light_selection_pdf(&self, i: usize, selection: LightSelection) -> f32 {
-        let n = self.lights.len();
-        if i >= n {
-            return 0.0;
-        }
-        match selection {
-            LightSelection::Power if self.total_power > 0.0 && self.total_power.is_finite() => {
-                discrete_pdf(&self.light_power, self.total_power, i)
-            }
-            _ => 1.0 / n as f32,
-        }
-    }
-
-    /// Light sampling from `x`: chooses a light, then a point on it. The returned pdf includes
-    /// the selection probability. Also returns the light's emitting object, if any.
-    #[inline]
-    pub fn sample_light(
-        &self,
-        x: Vec3,
-        u_select: f32,
-        u: Vec2,
-        spheres: SphereSampling,
-        quads: QuadSampling,
-        selection: LightSelection,
-    ) -> Option<(LightSample, Option<usize>)> {
-        let (i, p_select) = self.select_light(u_select, selection)?;
-        let light = self.lights.get(i)?;
-        let sample = light.sample_li(self.light_shape(light), x, u, spheres, quads)?;
-        let object = match light {
-            Light::Area { shape, .. } => Some(usize::from(*shape)),
-            Light::Point { .. } => None,
-        };
-        Some((LightSample { pdf: sample.pdf * p_select, ..sample }, object))
-    }
-
-    /// Pdf (solid angle at `x`, selection included) with which light sampling produces the
-    /// direction to point `y` on light `i`.
-    #[inline]
-    pub fn light_pdf(
-        &self,
-        i: usize,
-        x: Vec3,
-        y: &SurfacePoint,
-        spheres: SphereSampling,
-        quads: QuadSampling,
-        selection: LightSelection,
-    ) -> f32 {
-        let Some(light) = self.lights.get(i) else { return 0.0 };
-        self.light_selection_pdf(i, selection) * light.pdf_li(self.light_shape(light), x, y, spheres, quads)
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::camera::FovAxis;
+    use crate::error::Field;
 
     fn cam() -> CameraDesc {
         CameraDesc {
@@ -407,27 +311,8 @@ mod tests {
             Err(SceneError::CapacityExceeded(Collection::Lights))
         );
         assert_eq!(
-            s.add_shape(Shape::sphere(Vec3::ZERO, 1.0).unwrap(), MaterialId(7)),
+            s.add_shape(Shape::sphere(Vec3::ZERO, 1.0).unwrap(), MaterialId::new(7)),
             Err(SceneError::UnknownMaterial)
         );
-    }
-
-    #[test]
-    fn selection_probabilities_sum_to_one() {
-        let mut s: Scene<2, 3, 1> = Scene::new(cam(), Film::new(4, 4).unwrap()).unwrap();
-        let m = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
-        let a = s.add_shape(Shape::sphere(Vec3::ZERO, 1.0).unwrap(), m).unwrap();
-        s.add_area_light(a, Rgb::splat(2.0)).unwrap();
-        s.add_point_light(Vec3::ONE, Rgb::splat(1.0)).unwrap();
-        s.add_point_light(Vec3::ONE, Rgb::ZERO).unwrap();
-        for sel in [LightSelection::Uniform, LightSelection::Power] {
-            let sum: f32 = (0..3).map(|i| s.light_selection_pdf(i, sel)).sum();
-            assert!((sum - 1.0).abs() < 1e-6);
-            // Never selects a light with zero selection probability.
-            for k in 0..1000 {
-                let (i, p) = s.select_light(k as f32 / 1000.0, sel).unwrap();
-                assert!(p > 0.0 && (p - s.light_selection_pdf(i, sel)).abs() < 1e-6);
-            }
-        }
     }
 }

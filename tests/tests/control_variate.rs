@@ -146,7 +146,7 @@ fn settings(method: Method, model: MisModel, cv: ControlVariate) -> RenderSettin
 }
 
 fn origin() -> Hit {
-    shading_hit(0, Vec3::ZERO, Vec3::Y)
+    shading_hit(picomis::ShapeId::new(0), Vec3::ZERO, Vec3::Y)
 }
 
 fn wo() -> Vec3 {
@@ -228,7 +228,7 @@ fn unoccluded_light_is_exact() {
     let m = glossy.add_material(Material::ggx_conductor(0.3, Rgb::ONE).unwrap()).unwrap();
     let plate =
         glossy.add_shape(Shape::quad(floor_corners(1.0).map(|v| v + Vec3::Y * 0.01)).unwrap(), m).unwrap();
-    let hit = shading_hit(plate.index(), Vec3::new(0.0, 0.01, 0.0), Vec3::Y);
+    let hit = shading_hit(plate, Vec3::new(0.0, 0.01, 0.0), Vec3::Y);
     let on = direct_stats(
         &glossy,
         &settings(Method::Mis(Heuristic::Balance), MisModel::Multi, ControlVariate::On),

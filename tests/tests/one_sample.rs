@@ -41,7 +41,7 @@ fn sphere_light(s: &mut S, black: picomis::MaterialId, c: Vec3, r: f32, l: f32) 
 }
 
 fn origin() -> Hit {
-    shading_hit(0, Vec3::ZERO, Vec3::Y)
+    shading_hit(picomis::ShapeId::new(0), Vec3::ZERO, Vec3::Y)
 }
 
 fn wo() -> Vec3 {

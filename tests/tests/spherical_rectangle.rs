@@ -10,14 +10,35 @@
 //!    and grazing rectangles, parallelograms), decided identically by sampling and pdf.
 
 use picomis::sampling::spherical_rectangle;
-use picomis::{Light, QuadSampling, Rgb, Shape, SphereSampling, SurfacePoint, Vec3};
-use picomis_tests::{DVec3, d3, histogram, polygon_solid_angle, quad_corners};
+use picomis::{
+    Film, LightId, LightSample, LightSampler, LightSelection, Material, QuadSampling, Rgb, Scene, Shape,
+    SphereSampling, SurfacePoint, Vec2, Vec3,
+};
+use picomis_tests::{DVec3, camera, d3, histogram, polygon_solid_angle, quad_corners};
 
 const CHI2_TESTS: usize = 5;
 const N_CHI2: usize = 1_000_000;
 
-fn quad_light(corners: [Vec3; 4]) -> (Light, Shape) {
-    (Light::Area { shape: 0, radiance: Rgb::ONE }, Shape::quad(corners).unwrap())
+/// A scene holding one quad light.
+struct QuadLight {
+    scene: Scene<1, 1, 1>,
+    light: LightId,
+}
+
+impl QuadLight {
+    fn sample(&self, x: Vec3, u: Vec2, quads: QuadSampling) -> Option<LightSample> {
+        let lights = LightSampler::new(&self.scene, LightSelection::Uniform, SphereSampling::Cone);
+        lights.with_quad_sampling(quads).sample(self.light, x, u)
+    }
+}
+
+fn quad_light(corners: [Vec3; 4]) -> (QuadLight, Shape) {
+    let mut scene: Scene<1, 1, 1> = Scene::new(camera(), Film::new(4, 4).unwrap()).unwrap();
+    let m = scene.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
+    let shape = Shape::quad(corners).unwrap();
+    let id = scene.add_shape(shape, m).unwrap();
+    let light = scene.add_area_light(id, Rgb::ONE).unwrap();
+    (QuadLight { scene, light }, shape)
 }
 
 /// A rectangle facing -y (towards a receiver below it).
@@ -25,9 +46,10 @@ fn rect(p0: Vec3, a: f32, b: f32) -> [Vec3; 4] {
     quad_corners(p0, Vec3::new(a, 0.0, 0.0), Vec3::new(0.0, 0.0, b))
 }
 
-fn pdf(light: &Light, shape: &Shape, x: Vec3, p: Vec3, quads: QuadSampling) -> f64 {
+fn pdf(light: &QuadLight, shape: &Shape, x: Vec3, p: Vec3, quads: QuadSampling) -> f64 {
     let y = SurfacePoint { p, n: shape.normal_at(p) };
-    f64::from(light.pdf_li(Some(shape), x, &y, SphereSampling::Cone, quads))
+    let lights = LightSampler::new(&light.scene, LightSelection::Uniform, SphereSampling::Cone);
+    f64::from(lights.with_quad_sampling(quads).pdf(light.light, x, &y))
 }
 
 #[test]
@@ -65,7 +87,7 @@ fn chi2_against_the_pdf() {
             48,
             N_CHI2,
             500 + k as u32,
-            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Cone, QuadSampling::SolidAngle),
+            |u| light.sample(x, u, QuadSampling::SolidAngle),
             |s| chart(d3(x) + d3(s.wi) * f64::from(s.distance)),
         );
         let density = |s: f64, t: f64| {
@@ -128,7 +150,8 @@ fn solid_angle_is_accurate_or_falls_back_to_area() {
     );
     // Behind the light: nothing, in both.
     let (light, shape) = quad_light(rect(Vec3::new(-0.5, -1.0, -0.5), 1.0, 1.0));
-    let u = picomis::Vec2::new(0.3, 0.6);
-    assert!(light.sample_li(Some(&shape), x, u, SphereSampling::Cone, QuadSampling::SolidAngle).is_none());
+    let u = Vec2::new(0.3, 0.6);
+    assert!(light.sample(x, u, QuadSampling::SolidAngle).is_none());
+    let _ = shape;
     let _ = DVec3::ZERO;
 }
