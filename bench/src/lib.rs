@@ -29,8 +29,8 @@ pub use picomis_sim::study::{StudyMethod, study_methods as methods};
 /// integrator blocks ask), 1 spp.
 pub fn settings(m: &StudyMethod) -> RenderSettings {
     RenderSettings::new(m.method, 1, 1, 1, 0)
+        .and_then(|s| m.extras.apply(s.with_sphere_sampling(m.spheres)))
         .expect("study methods have valid settings")
-        .with_sphere_sampling(m.spheres)
 }
 
 /// Every built-in scene file, sorted by name (the list of `picomis-builtins`).

@@ -115,6 +115,13 @@ pub(crate) fn module(s: &SceneFile) -> String {
         s.light_samples,
         s.bsdf_samples
     );
+    if let picomis::MisModel::One { c_light } = s.model {
+        let _ = writeln!(
+            o,
+            "        .and_then(|s| s.with_mis_model(picomis::MisModel::One {{ c_light: {} }}))",
+            f(c_light)
+        );
+    }
     let _ = writeln!(o, "}}");
     o
 }

@@ -96,6 +96,20 @@ struct IntegratorDesc {
     /// The cutoff heuristic's threshold (default: the kernel's).
     #[serde(default)]
     alpha: Option<f32>,
+    /// `multi` (default) or `one`: the MIS sampling model.
+    #[serde(default = "default_mis_model")]
+    mis_model: String,
+    /// Probability of the light technique in the one-sample model.
+    #[serde(default = "default_c_light")]
+    c_light: f32,
+}
+
+fn default_mis_model() -> String {
+    "multi".into()
+}
+
+fn default_c_light() -> f32 {
+    picomis::model::DEFAULT_C_LIGHT
 }
 
 #[derive(Deserialize)]
@@ -259,7 +273,10 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
         .map_err(|e| e.to_string())
         .and_then(|m| m.with_parameters(ig.beta, ig.alpha).map_err(|e| e.to_string()))
         .map_err(|r| fail("integrator.mis", r))?;
+    let model =
+        crate::parse_mis_model(&ig.mis_model, ig.c_light).map_err(|r| fail("integrator.mis_model", r))?;
     picomis::RenderSettings::new(method, ig.emitter_samples, ig.bsdf_samples, 1, 0)
+        .and_then(|s| s.with_mis_model(model))
         .map_err(|e| kernel("integrator", e))?;
 
     let mut steps = Vec::new();
@@ -345,6 +362,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
         film,
         camera,
         method,
+        model,
         light_samples: ig.emitter_samples,
         bsdf_samples: ig.bsdf_samples,
         steps,

@@ -21,8 +21,8 @@ use std::path::Path;
 pub use catalog::builtins_rust;
 
 use picomis::{
-    Camera, CameraDesc, Collection, Film, Material, Method, RenderSettings, Rgb, Scene, SceneError, Shape,
-    Vec3,
+    Camera, CameraDesc, Collection, Film, Material, Method, MisModel, RenderSettings, Rgb, Scene, SceneError,
+    Shape, Vec3,
 };
 
 /// Why a scene file could not be loaded: which file, which entry, and why.
@@ -88,6 +88,7 @@ pub struct SceneFile {
     film: Film,
     camera: CameraDesc,
     method: Method,
+    model: MisModel,
     light_samples: u16,
     bsdf_samples: u16,
     steps: Vec<Step>,
@@ -189,12 +190,18 @@ impl SceneFile {
     /// The integrator block's defaults: method and sample counts (1 spp, seed 0).
     pub fn default_settings(&self) -> Result<RenderSettings, LoadError> {
         RenderSettings::new(self.method, self.light_samples, self.bsdf_samples, 1, 0)
+            .and_then(|s| s.with_mis_model(self.model))
             .map_err(|e| self.error("integrator", e))
     }
 
     /// The default method of the integrator block.
     pub fn default_method(&self) -> Method {
         self.method
+    }
+
+    /// The MIS model of the integrator block (`mis_model`, `c_light`).
+    pub fn default_model(&self) -> MisModel {
+        self.model
     }
 
     /// Light and BSDF samples per camera sample of the integrator block.
@@ -226,6 +233,16 @@ impl SceneFile {
             other => other.to_string(),
         };
         LoadError { file: self.file.clone(), entry, reason }
+    }
+}
+
+/// Parses a MIS model name: `multi`, or `one` with the light technique's probability `c_light`
+/// (in [0, 1]).
+pub fn parse_mis_model(name: &str, c_light: f32) -> Result<MisModel, String> {
+    match name {
+        "multi" => Ok(MisModel::Multi),
+        "one" => MisModel::one(c_light).map_err(|e| e.to_string()),
+        other => Err(format!("unknown MIS model {other:?} (expected multi or one)")),
     }
 }
 

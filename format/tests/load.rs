@@ -117,6 +117,13 @@ fn non_finite_and_out_of_range_numbers() {
     v["integrator"]["emitter_samples"] = 0.into();
     v["integrator"]["bsdf_samples"] = 0.into();
     rejects(&v, "integrator", "both sample counts are zero");
+    let mut v = veach();
+    v["integrator"]["mis_model"] = "two".into();
+    rejects(&v, "integrator.mis_model", "unknown MIS model");
+    let mut v = veach();
+    v["integrator"]["mis_model"] = "one".into();
+    v["integrator"]["c_light"] = 1.5.into();
+    rejects(&v, "integrator.mis_model", "c_light is out of range");
 }
 
 #[test]

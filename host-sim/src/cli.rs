@@ -4,7 +4,11 @@ use std::path::{Path, PathBuf};
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand, ValueEnum};
-use picomis::{Film, Heuristic, LightSelection, Method, RenderSettings, SphereSampling};
+use picomis::{
+    ControlVariate, Film, Heuristic, LightSelection, Method, MisModel, QuadSampling, RenderSettings,
+    SphereSampling,
+};
+use picomis_format::parse_mis_model;
 
 use crate::SimError;
 use crate::figure::render_figure;
@@ -54,6 +58,33 @@ pub enum SphereSamplingArg {
     Cone,
 }
 
+/// How quad lights are sampled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum QuadSamplingArg {
+    /// Uniformly by area.
+    Area,
+    /// Uniformly in solid angle (spherical rectangles; by area where that is not stable).
+    SolidAngle,
+}
+
+/// The MIS sampling model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MisModelArg {
+    /// Every technique draws its samples (light and BSDF sample counts).
+    Multi,
+    /// One sample per camera sample: light with probability --c-light, else BSDF.
+    One,
+}
+
+/// Whether unoccluded light is computed in closed form (Lambertian receivers).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    /// On.
+    On,
+    /// Off.
+    Off,
+}
+
 /// How a light is chosen among several.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum LightSelectionArg {
@@ -95,6 +126,20 @@ pub struct RenderArgs {
     /// How a light is chosen among several.
     #[arg(long, value_enum, default_value_t = LightSelectionArg::Uniform)]
     pub light_selection: LightSelectionArg,
+    /// How quad lights are sampled.
+    #[arg(long, value_enum, default_value_t = QuadSamplingArg::Area)]
+    pub quad_sampling: QuadSamplingArg,
+    /// MIS model: multi-sample or one-sample (default: the scene's integrator block, else multi).
+    #[arg(long, value_enum)]
+    pub mis_model: Option<MisModelArg>,
+    /// Probability of the light technique in the one-sample model, in [0, 1] (default: the
+    /// scene's, else 0.5).
+    #[arg(long, value_name = "C", allow_negative_numbers = true)]
+    pub c_light: Option<f32>,
+    /// Unoccluded light of quad and sphere lights on Lambertian surfaces in closed form, Monte
+    /// Carlo for the shadows only.
+    #[arg(long, value_enum, default_value_t = OnOff::Off)]
+    pub control_variate: OnOff,
     /// Seed: the same seed gives the same image, on any number of threads.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -124,9 +169,52 @@ pub struct FigureArgs {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
+    /// Beyond the lecture: applied to every render of the figure.
+    #[command(flatten)]
+    pub extras: ExtrasArgs,
     /// Output PNG (default: `<scene name>_figure.png` here).
     #[arg(long, value_name = "FILE.png")]
     pub out: Option<PathBuf>,
+}
+
+/// The options beyond the lecture (issue 14), for commands that apply them to several renders.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ExtrasArgs {
+    /// MIS model: multi-sample or one-sample.
+    #[arg(long, value_enum, default_value_t = MisModelArg::Multi)]
+    pub mis_model: MisModelArg,
+    /// Probability of the light technique in the one-sample model, in [0, 1].
+    #[arg(long, value_name = "C", default_value_t = picomis::model::DEFAULT_C_LIGHT, allow_negative_numbers = true)]
+    pub c_light: f32,
+    /// How quad lights are sampled.
+    #[arg(long, value_enum, default_value_t = QuadSamplingArg::Area)]
+    pub quad_sampling: QuadSamplingArg,
+    /// Unoccluded light of quad and sphere lights on Lambertian surfaces in closed form.
+    #[arg(long, value_enum, default_value_t = OnOff::Off)]
+    pub control_variate: OnOff,
+}
+
+impl ExtrasArgs {
+    /// The study's form of these options (validated: `c_light` in [0, 1]).
+    pub fn extras(&self) -> Result<crate::study::Extras, SimError> {
+        let name = match self.mis_model {
+            MisModelArg::Multi => "multi",
+            MisModelArg::One => "one",
+        };
+        let model = parse_mis_model(name, self.c_light)
+            .map_err(|e| SimError::Usage(format!("--mis-model {name} --c-light {}: {e}", self.c_light)))?;
+        Ok(crate::study::Extras {
+            model,
+            quads: match self.quad_sampling {
+                QuadSamplingArg::Area => QuadSampling::Area,
+                QuadSamplingArg::SolidAngle => QuadSampling::SolidAngle,
+            },
+            control_variate: match self.control_variate {
+                OnOff::On => ControlVariate::On,
+                OnOff::Off => ControlVariate::Off,
+            },
+        })
+    }
 }
 
 /// Runs a parsed command line.
@@ -187,6 +275,21 @@ fn describe(m: Method) -> String {
     }
 }
 
+/// The options beyond the lecture that differ from their defaults, for the summary line.
+fn extras_note(s: &RenderSettings) -> String {
+    let mut note = String::new();
+    if let MisModel::One { c_light } = s.mis_model() {
+        note += &format!(", one-sample model (c_light {c_light})");
+    }
+    if s.quad_sampling() == QuadSampling::SolidAngle {
+        note += ", quads by solid angle";
+    }
+    if s.control_variate() == ControlVariate::On {
+        note += ", control variate";
+    }
+    note
+}
+
 /// The render settings from the scene's integrator block overridden by the flags.
 pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, SimError> {
     let usage = SimError::Usage;
@@ -231,7 +334,35 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
         LightSelectionArg::Uniform => LightSelection::Uniform,
         LightSelectionArg::Power => LightSelection::Power,
     };
-    Ok(settings.with_sphere_sampling(spheres).with_light_selection(selection))
+    let quads = match args.quad_sampling {
+        QuadSamplingArg::Area => QuadSampling::Area,
+        QuadSamplingArg::SolidAngle => QuadSampling::SolidAngle,
+    };
+    let control_variate = match args.control_variate {
+        OnOff::On => ControlVariate::On,
+        OnOff::Off => ControlVariate::Off,
+    };
+    let scene_model = loaded.file.default_model();
+    let scene_c = match scene_model {
+        MisModel::One { c_light } => c_light,
+        MisModel::Multi => picomis::model::DEFAULT_C_LIGHT,
+    };
+    let model_name = match (args.mis_model, scene_model) {
+        (Some(MisModelArg::One), _) | (None, MisModel::One { .. }) => "one",
+        (Some(MisModelArg::Multi), _) | (None, MisModel::Multi) => "multi",
+    };
+    if let (Some(c), "multi") = (args.c_light, model_name) {
+        return Err(usage(format!("--c-light {c}: only the one-sample model (--mis-model one) has a c")));
+    }
+    let c_light = args.c_light.unwrap_or(scene_c);
+    let model = parse_mis_model(model_name, c_light)
+        .map_err(|e| usage(format!("--mis-model {model_name} --c-light {c_light}: {e}")))?;
+    let settings = settings.with_mis_model(model).map_err(|e| usage(format!("--c-light {c_light}: {e}")))?;
+    Ok(settings
+        .with_sphere_sampling(spheres)
+        .with_light_selection(selection)
+        .with_quad_sampling(quads)
+        .with_control_variate(control_variate))
 }
 
 /// The film from the scene and `--width` / `--height`.
@@ -278,7 +409,7 @@ fn render(args: &RenderArgs) -> Result<(), SimError> {
         film.width(),
         film.height(),
         settings.spp(),
-        describe(settings.method()),
+        describe(settings.method()) + &extras_note(&settings),
         secs,
         rate(batch.camera_samples, secs),
         out.display()
@@ -297,7 +428,7 @@ fn figure(args: &FigureArgs) -> Result<(), SimError> {
     if check_output(&out).map_err(SimError::Usage)? != Format::Png {
         return Err(SimError::Usage(format!("{}: the figure is written as PNG (.png)", out.display())));
     }
-    let (canvas, batch) = render_figure(&loaded, args.spp, args.seed)?;
+    let (canvas, batch) = render_figure(&loaded, args.spp, args.seed, &args.extras.extras()?)?;
     let bytes = encode_png(canvas.width, canvas.height, &canvas.bytes()).map_err(SimError::Io)?;
     write_atomic(&out, &bytes).map_err(SimError::Io)?;
     let secs = batch.elapsed.as_secs_f64();

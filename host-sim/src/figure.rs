@@ -86,25 +86,36 @@ fn upscale(src: &[[u8; 3]], w: u32, h: u32, k: u32) -> Vec<[u8; 3]> {
 }
 
 /// The settings of the figure's renders for `loaded`'s scene: its sample counts, `spp`, `seed`.
-pub fn figure_settings(loaded: &Loaded, spp: u32, seed: u32) -> Result<Vec<RenderSettings>, SimError> {
+pub fn figure_settings(
+    loaded: &Loaded,
+    spp: u32,
+    seed: u32,
+    extras: &crate::study::Extras,
+) -> Result<Vec<RenderSettings>, SimError> {
     let (n_light, n_bsdf) = loaded.file.default_samples();
     methods()?
         .into_iter()
         .map(|method| {
             RenderSettings::new(method, n_light.max(1), n_bsdf.max(1), spp, seed)
+                .and_then(|s| extras.apply(s))
                 .map_err(|e| SimError::Usage(format!("settings: {e}")))
         })
         .collect()
 }
 
 /// Renders the figure's six images of `loaded`'s scene at `spp` and composes the figure.
-pub fn render_figure(loaded: &Loaded, spp: u32, seed: u32) -> Result<(Canvas, Batch), SimError> {
-    let settings = figure_settings(loaded, spp, seed)?;
+pub fn render_figure(
+    loaded: &Loaded,
+    spp: u32,
+    seed: u32,
+    extras: &crate::study::Extras,
+) -> Result<(Canvas, Batch), SimError> {
+    let settings = figure_settings(loaded, spp, seed, extras)?;
     let film = loaded.file.film();
     let batch = loaded.visit(film, RenderBatch { settings: &settings, message: "figure" })?;
     let (n_light, n_bsdf) = settings[weights_panel()].technique_samples();
     let lights = loaded.file.counts().lights;
-    let caption = [
+    let mut caption = vec![
         format!(
             "{}: {}x{}, {spp} camera samples per pixel, each with {n_light} light + {n_bsdf} BSDF sample{}, seed {seed}",
             loaded.file.name(),
@@ -120,6 +131,12 @@ pub fn render_figure(loaded: &Loaded, spp: u32, seed: u32) -> Result<(Canvas, Ba
             )
         },
     ];
+    if *extras != crate::study::Extras::default() {
+        caption.push(format!(
+            "Every render: MIS model {:?}, quads sampled by {:?}, control variate {:?}.",
+            extras.model, extras.quads, extras.control_variate
+        ));
+    }
     Ok((compose(&batch.images, &caption), batch))
 }
 

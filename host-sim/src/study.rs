@@ -27,7 +27,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use indicatif::ProgressBar;
-use picomis::{Estimate, Film, Heuristic, Method, RenderSettings, Rgb, Scene, SphereSampling, render_pixel};
+use picomis::{
+    ControlVariate, Estimate, Film, Heuristic, Method, MisModel, QuadSampling, RenderSettings, Rgb, Scene,
+    SphereSampling, render_pixel,
+};
 use rayon::prelude::*;
 
 use crate::SimError;
@@ -80,6 +83,29 @@ pub struct StudyMethod {
     pub method: Method,
     /// How sphere lights are sampled.
     pub spheres: SphereSampling,
+    /// Beyond the lecture: MIS model, quad sampling, control variate.
+    pub extras: Extras,
+}
+
+/// What a study method adds to the seed's estimator (issue 14).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Extras {
+    /// The MIS model.
+    pub model: MisModel,
+    /// How quad lights are sampled.
+    pub quads: QuadSampling,
+    /// The analytic control variate.
+    pub control_variate: ControlVariate,
+}
+
+impl Extras {
+    /// `settings` with these options.
+    pub fn apply(&self, settings: RenderSettings) -> Result<RenderSettings, picomis::SceneError> {
+        Ok(settings
+            .with_mis_model(self.model)?
+            .with_quad_sampling(self.quads)
+            .with_control_variate(self.control_variate))
+    }
 }
 
 /// The methods of the study, in the seed's order. The heuristics sample sphere lights by cone.
@@ -87,24 +113,84 @@ pub fn study_methods() -> Vec<StudyMethod> {
     let m = |name: &str| Method::from_name(name).expect("the kernel's method names");
     let cone = SphereSampling::Cone;
     vec![
-        StudyMethod { label: "bsdf", title: "BSDF sampling", method: m("bsdf"), spheres: cone },
+        StudyMethod {
+            label: "bsdf",
+            title: "BSDF sampling",
+            method: m("bsdf"),
+            spheres: cone,
+            extras: Extras::default(),
+        },
         StudyMethod {
             label: "light_area",
             title: "light sampling (area)",
             method: m("light"),
             spheres: SphereSampling::Area,
+            extras: Extras::default(),
         },
         StudyMethod {
             label: "light_cone",
             title: "light sampling (cone)",
             method: m("light"),
             spheres: cone,
+            extras: Extras::default(),
         },
-        StudyMethod { label: "average", title: "average", method: m("average"), spheres: cone },
-        StudyMethod { label: "balance", title: "balance", method: m("balance"), spheres: cone },
-        StudyMethod { label: "power", title: "power (\u{3b2} = 2)", method: m("power"), spheres: cone },
-        StudyMethod { label: "maximum", title: "maximum", method: m("maximum"), spheres: cone },
-        StudyMethod { label: "cutoff", title: "cutoff (\u{3b1} = 0.1)", method: m("cutoff"), spheres: cone },
+        StudyMethod {
+            label: "average",
+            title: "average",
+            method: m("average"),
+            spheres: cone,
+            extras: Extras::default(),
+        },
+        StudyMethod {
+            label: "balance",
+            title: "balance",
+            method: m("balance"),
+            spheres: cone,
+            extras: Extras::default(),
+        },
+        StudyMethod {
+            label: "power",
+            title: "power (\u{3b2} = 2)",
+            method: m("power"),
+            spheres: cone,
+            extras: Extras::default(),
+        },
+        StudyMethod {
+            label: "maximum",
+            title: "maximum",
+            method: m("maximum"),
+            spheres: cone,
+            extras: Extras::default(),
+        },
+        StudyMethod {
+            label: "cutoff",
+            title: "cutoff (\u{3b1} = 0.1)",
+            method: m("cutoff"),
+            spheres: cone,
+            extras: Extras::default(),
+        },
+        // Beyond the lecture (issue 14), each against balance.
+        StudyMethod {
+            label: "one_balance",
+            title: "one-sample balance (c = 0.5)",
+            method: m("balance"),
+            spheres: cone,
+            extras: Extras { model: MisModel::One { c_light: 0.5 }, ..Extras::default() },
+        },
+        StudyMethod {
+            label: "balance_sa",
+            title: "balance, quads by solid angle",
+            method: m("balance"),
+            spheres: cone,
+            extras: Extras { quads: QuadSampling::SolidAngle, ..Extras::default() },
+        },
+        StudyMethod {
+            label: "balance_cv",
+            title: "balance + control variate",
+            method: m("balance"),
+            spheres: cone,
+            extras: Extras { control_variate: ControlVariate::On, ..Extras::default() },
+        },
     ]
 }
 
@@ -274,7 +360,7 @@ fn measured(e: &Estimate, include_emitted: bool) -> Rgb {
 /// The render settings of method `m` with `n` = (light, BSDF) samples per camera sample.
 pub fn settings(m: &StudyMethod, n: (u16, u16), spp: u32, seed: u32) -> Result<RenderSettings, SimError> {
     RenderSettings::new(m.method, n.0.max(1), n.1.max(1), spp, seed)
-        .map(|s| s.with_sphere_sampling(m.spheres))
+        .and_then(|s| m.extras.apply(s.with_sphere_sampling(m.spheres)))
         .map_err(|e| SimError::Usage(format!("{}: {e}", m.label)))
 }
 
@@ -465,8 +551,8 @@ mod tests {
             assert!(dir.path().join(f).is_file(), "{f} missing");
         }
         let csv = std::fs::read_to_string(dir.path().join("results.csv")).unwrap();
-        // Header, then 8 methods x 2 rungs x 2 seeds.
-        assert_eq!(csv.lines().count(), 1 + 8 * 2 * 2);
+        // Header, then every method x 2 rungs x 2 seeds.
+        assert_eq!(csv.lines().count(), 1 + study_methods().len() * 2 * 2);
         assert!(csv.lines().nth(1).unwrap().starts_with("lambert_sphere,bsdf,1,1,16,12,"));
         let cache: Vec<_> = std::fs::read_dir(dir.path().join("cache")).unwrap().collect();
         assert_eq!(cache.len(), 3, "reflected, full and info");

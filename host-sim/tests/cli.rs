@@ -180,6 +180,12 @@ fn bad_flag_values() {
         (&["--light-samples", "70000"], "invalid value '70000' for '--light-samples"),
         (&["--seed", "-1"], "unexpected argument '-1'"),
         (&["--frobnicate"], "unexpected argument '--frobnicate'"),
+        (&["--mis-model", "one", "--c-light", "1.5"], "c_light is out of range"),
+        (&["--mis-model", "one", "--c-light", "nan"], "c_light is not a finite number"),
+        (&["--c-light", "0.5"], "only the one-sample model (--mis-model one) has a c"),
+        (&["--mis-model", "two"], "invalid value 'two' for '--mis-model"),
+        (&["--quad-sampling", "cone"], "invalid value 'cone' for '--quad-sampling"),
+        (&["--control-variate", "yes"], "invalid value 'yes' for '--control-variate"),
     ];
     for (flags, reason) in cases {
         let mut args = vec!["render", "lambert_sphere", "--out", "out.png"];

@@ -45,6 +45,8 @@ pub enum Field {
     Beta,
     /// Cutoff-heuristic threshold.
     CutoffAlpha,
+    /// Probability of the light technique in the one-sample model.
+    CLight,
 }
 
 /// Which fixed-capacity collection of a scene is full.
@@ -111,6 +113,7 @@ impl fmt::Display for Field {
             Field::TechniqueSamples => "sample count",
             Field::Beta => "power-heuristic beta",
             Field::CutoffAlpha => "cutoff alpha",
+            Field::CLight => "c_light",
         })
     }
 }

@@ -1,4 +1,5 @@
-//! The MIS direct-lighting estimator of the lecture (Veach and Guibas 1995), multi-sample model:
+//! The MIS direct-lighting estimator of the lecture (Veach and Guibas 1995), multi-sample model
+//! (and the one-sample model of section 4, see [`crate::model`]):
 //!
 //! F = 1/n_l sum_j w_l(X_j) f(X_j)/p_l(X_j) + 1/n_b sum_j w_b(Y_j) f(Y_j)/p_b(Y_j),
 //!
@@ -8,13 +9,17 @@
 //! technique's weighted contribution and weights are kept apart, so the lecture's weight and
 //! contribution images come from this one function.
 
+use crate::analytic;
+use crate::ids::LightId;
 use crate::light::Light;
 use crate::light_sampler::{LightSampler, ShadingPoint};
+use crate::material::Material;
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::mis::Technique;
+use crate::model::MisModel;
 use crate::rng::Sampler;
 use crate::scene::{Hit, Scene};
-use crate::settings::RenderSettings;
+use crate::settings::{ControlVariate, RenderSettings};
 use crate::shape::Ray;
 
 /// The largest contribution one sample may add (per channel, already divided by the technique's
@@ -119,7 +124,11 @@ pub fn trace<const S: usize, const L: usize, const M: usize>(
     out
 }
 
-/// Direct lighting at `x` towards `wo`, by light sampling and BSDF sampling combined with MIS.
+/// Direct lighting at `x` towards `wo`, by light sampling and BSDF sampling combined with MIS,
+/// in the settings' model: [`estimate_direct_multi_sample`] or [`estimate_direct_one_sample`].
+/// With the control variate on, a Lambertian receiver gets the unoccluded light of every quad
+/// and sphere light in closed form, in the light part, and the techniques sample only
+/// f (V - 1) for those lights ([`crate::analytic`]).
 #[inline]
 pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
@@ -128,59 +137,223 @@ pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
     wo: Vec3,
     sampler: &mut Sampler,
 ) -> (TechniqueEstimate, TechniqueEstimate) {
-    let (mut by_light, mut by_bsdf) = (TechniqueEstimate::default(), TechniqueEstimate::default());
-    let Some(bsdf) = scene.material(x.object).filter(|m| !m.is_black()) else {
-        return (by_light, by_bsdf);
+    let Some(at) = Shading::new(scene, settings, x, wo) else {
+        return (TechniqueEstimate::default(), TechniqueEstimate::default());
     };
-    let lights = LightSampler::new(scene, settings.light_selection(), settings.sphere_sampling());
+    let (mut by_light, by_bsdf) = match settings.mis_model() {
+        MisModel::Multi => estimate_direct_multi_sample(scene, settings, &at, sampler),
+        MisModel::One { .. } => estimate_direct_one_sample(scene, settings, &at, sampler),
+    };
+    // The closed-form part of the control variate (zero without it).
+    by_light.contribution += at.unoccluded;
+    (by_light, by_bsdf)
+}
+
+/// The multi-sample model: F = sum_i 1/n_i sum_j w_i(X_ij) f(X_ij) / p_i(X_ij), q_i = n_i p_i.
+#[inline]
+pub fn estimate_direct_multi_sample<const S: usize, const L: usize, const M: usize>(
+    scene: &Scene<S, L, M>,
+    settings: &RenderSettings,
+    at: &Shading<'_>,
+    sampler: &mut Sampler,
+) -> (TechniqueEstimate, TechniqueEstimate) {
+    let (mut by_light, mut by_bsdf) = (TechniqueEstimate::default(), TechniqueEstimate::default());
     let method = settings.method();
     let (n_l, n_b) = settings.technique_samples();
     let (n_light, n_bsdf) = (f32::from(n_l), f32::from(n_b));
-    let at = ShadingPoint { p: x.point.p, n: x.point.n, wo };
-    let frame = Frame::from_normal(x.point.n);
-    let wo = frame.to_local(wo);
-    let p = x.point.p;
 
     // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
     for _ in 0..n_l {
-        let u_select = sampler.next_f32();
-        let u: Vec2 = sampler.next_2d();
-        let Some(chosen) = lights.select(&at, u_select) else { continue };
-        let Some(ls) = lights.sample(chosen.light, p, u) else { continue };
-        // The light technique's pdf of this direction: p_l = P(light) p_w(wi | light).
-        let p_light = chosen.probability * ls.pdf;
-        let wi = frame.to_local(ls.wi);
-        let (f, p_bsdf) = bsdf.eval_pdf(wo, wi);
-        if f == Rgb::ZERO || ls.radiance == Rgb::ZERO {
-            continue;
-        }
-        let shadow = Ray { origin: p, dir: ls.wi };
-        if !scene.unoccluded(&shadow, ls.distance, x.object, ls.emitter) {
-            continue;
-        }
+        let Some(s) = light_sample(scene, settings, at, sampler) else { continue };
         // A delta light cannot be hit by a BSDF sample: its weight is one.
-        let w =
-            if ls.delta { 1.0 } else { method.weight(Technique::Light, n_light * p_light, n_bsdf * p_bsdf) };
-        by_light.add(f * ls.radiance * (w / (n_light * p_light)), w);
+        let w = if s.delta {
+            1.0
+        } else {
+            method.weight(Technique::Light, n_light * s.pdf, n_bsdf * s.pdf_other)
+        };
+        by_light.add(s.value * (w / (n_light * s.pdf)), w);
     }
 
     // Technique 2, BSDF sampling: wi ~ p_b, trace; if a light's front side is hit,
     // w_b L_e f cos / (n_b p_b), with p_l evaluated for the light that was hit.
     for _ in 0..n_b {
-        let Some(bs) = bsdf.sample(wo, sampler.next_2d()) else { continue };
-        let ray = Ray { origin: p, dir: frame.to_world(bs.wi) };
-        let Some((y, light, radiance)) = scene.emitter_hit(&ray, x.object) else { continue };
-        if radiance == Rgb::ZERO {
-            continue;
-        }
-        let p_light = lights.pmf(&at, light) * lights.pdf(light, p, &y.point);
-        // The weight needs p_b as a function of the direction, the same function the light
-        // technique's weight used (`eval_pdf`), so the two weights of a direction sum to one
-        // exactly. (`bs.pdf`, from the sampled half vector, can differ from it by rounding at
-        // grazing near-mirror angles; the sample's f / p_b, `bs.weight`, uses the exact one.)
-        let p_bsdf = bsdf.pdf(wo, bs.wi);
-        let w = method.weight(Technique::Bsdf, n_light * p_light, n_bsdf * p_bsdf);
-        by_bsdf.add(bs.weight * radiance * (w / n_bsdf), w);
+        bsdf_sample(scene, settings, at, sampler, |s| {
+            let w = method.weight(Technique::Bsdf, n_light * s.pdf_other, n_bsdf * s.pdf);
+            by_bsdf.add(s.value * (w / n_bsdf), w);
+        });
     }
     (by_light, by_bsdf)
+}
+
+/// The one-sample model: pick the light technique with probability c_l (else the BSDF technique,
+/// c_b = 1 - c_l), draw one sample X from it, F = w_i(X) f(X) / (c_i p_i(X)), q_i = c_i p_i.
+#[inline]
+pub fn estimate_direct_one_sample<const S: usize, const L: usize, const M: usize>(
+    scene: &Scene<S, L, M>,
+    settings: &RenderSettings,
+    at: &Shading<'_>,
+    sampler: &mut Sampler,
+) -> (TechniqueEstimate, TechniqueEstimate) {
+    let (mut by_light, mut by_bsdf) = (TechniqueEstimate::default(), TechniqueEstimate::default());
+    let method = settings.method();
+    let c_light = settings.c_light();
+    let c_bsdf = 1.0 - c_light;
+    if sampler.next_f32() < c_light {
+        if let Some(s) = light_sample(scene, settings, at, sampler) {
+            let w = if s.delta {
+                1.0
+            } else {
+                method.weight(Technique::Light, c_light * s.pdf, c_bsdf * s.pdf_other)
+            };
+            by_light.add(s.value * (w / (c_light * s.pdf)), w);
+        }
+    } else {
+        bsdf_sample(scene, settings, at, sampler, |s| {
+            let w = method.weight(Technique::Bsdf, c_light * s.pdf_other, c_bsdf * s.pdf);
+            by_bsdf.add(s.value * (w / c_bsdf), w);
+        });
+    }
+    (by_light, by_bsdf)
+}
+
+/// A shading point as the techniques see it: the BSDF, the local frame and `wo` in it.
+#[derive(Clone, Copy, Debug)]
+pub struct Shading<'a> {
+    x: &'a Hit,
+    bsdf: &'a Material,
+    frame: Frame,
+    /// `wo` in the local frame.
+    wo: Vec3,
+    /// The shading point as the light sampler sees it (world `wo`).
+    point: ShadingPoint,
+    /// The control variate applies here (it is on and the receiver is Lambertian).
+    control_variate: bool,
+    /// Bit i: light i's unoccluded part is in closed form here.
+    covered: u64,
+    /// The closed-form reflected radiance of those lights.
+    unoccluded: Rgb,
+}
+
+impl<'a> Shading<'a> {
+    /// The shading point `x` seen from `wo`; `None` when its material reflects nothing.
+    #[inline]
+    pub fn new<const S: usize, const L: usize, const M: usize>(
+        scene: &'a Scene<S, L, M>,
+        settings: &RenderSettings,
+        x: &'a Hit,
+        wo: Vec3,
+    ) -> Option<Self> {
+        let bsdf = scene.material(x.object).filter(|m| !m.is_black())?;
+        let frame = Frame::from_normal(x.point.n);
+        let point = ShadingPoint { p: x.point.p, n: x.point.n, wo };
+        let wo = frame.to_local(wo);
+        let control_variate =
+            settings.control_variate() == ControlVariate::On && matches!(bsdf, Material::Lambertian { .. });
+        let (covered, unoccluded) =
+            if control_variate { analytic::unoccluded_light(scene, bsdf, x, wo.z) } else { (0, Rgb::ZERO) };
+        Some(Shading { x, bsdf, frame, wo, point, control_variate, covered, unoccluded })
+    }
+
+    /// Whether light `light`'s part is sampled as f (V - 1) (its unoccluded part is in closed form).
+    #[inline]
+    fn analytic(&self, light: LightId) -> bool {
+        let i = light.index();
+        i < 64 && self.covered & (1 << i) != 0
+    }
+}
+
+/// The light sampler of the settings' strategies.
+#[inline]
+fn light_sampler<'a, const S: usize, const L: usize, const M: usize>(
+    scene: &'a Scene<S, L, M>,
+    settings: &RenderSettings,
+) -> LightSampler<'a, S, L, M> {
+    LightSampler::new(scene, settings.light_selection(), settings.sphere_sampling())
+        .with_quad_sampling(settings.quad_sampling())
+}
+
+/// A sample that found light: its integrand value (not divided by any pdf for light samples;
+/// divided by the BSDF pdf for BSDF samples), its own technique's pdf and the other's.
+struct Found {
+    value: Rgb,
+    pdf: f32,
+    pdf_other: f32,
+    delta: bool,
+}
+
+/// One light sample: a light and a point on it, f L_e, with V (or V - 1 for a light in closed
+/// form); `None` when it carries nothing.
+#[inline]
+fn light_sample<const S: usize, const L: usize, const M: usize>(
+    scene: &Scene<S, L, M>,
+    settings: &RenderSettings,
+    at: &Shading<'_>,
+    sampler: &mut Sampler,
+) -> Option<Found> {
+    let lights = light_sampler(scene, settings);
+    let p = at.x.point.p;
+    let u_select = sampler.next_f32();
+    let u: Vec2 = sampler.next_2d();
+    let chosen = lights.select(&at.point, u_select)?;
+    let ls = lights.sample(chosen.light, p, u)?;
+    // The light technique's pdf of this direction: p_l = P(light) p_w(wi | light).
+    let p_light = chosen.probability * ls.pdf;
+    let wi = at.frame.to_local(ls.wi);
+    let (f, p_bsdf) = at.bsdf.eval_pdf(at.wo, wi);
+    if f == Rgb::ZERO || ls.radiance == Rgb::ZERO {
+        return None;
+    }
+    let shadow = Ray { origin: p, dir: ls.wi };
+    let visible = scene.unoccluded(&shadow, ls.distance, at.x.object, ls.emitter);
+    let value = match (at.analytic(chosen.light), visible) {
+        (false, true) => f * ls.radiance,
+        (true, false) => -(f * ls.radiance),
+        (false, false) | (true, true) => return None,
+    };
+    Some(Found { value, pdf: p_light, pdf_other: p_bsdf, delta: ls.delta })
+}
+
+/// One BSDF sample: wi ~ p_b, traced; `found` is called for each light it counts for, with
+/// f L_e / p_b. Without the control variate that is the first surface, if it is a light's front
+/// side. With it, a light in closed form counts with f L_e (V - 1) / p_b: only when the ray meets
+/// its front side behind another surface.
+#[inline]
+fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
+    scene: &Scene<S, L, M>,
+    settings: &RenderSettings,
+    at: &Shading<'_>,
+    sampler: &mut Sampler,
+    mut found: impl FnMut(Found),
+) {
+    let lights = light_sampler(scene, settings);
+    let p = at.x.point.p;
+    let Some(bs) = at.bsdf.sample(at.wo, sampler.next_2d()) else { return };
+    let ray = Ray { origin: p, dir: at.frame.to_world(bs.wi) };
+    // The weight needs p_b as a function of the direction, the same function the light
+    // technique's weight used (`eval_pdf`), so the two weights of a direction sum to one
+    // exactly. (`bs.pdf`, from the sampled half vector, can differ from it by rounding at
+    // grazing near-mirror angles; the sample's f / p_b, `bs.weight`, uses the exact one.)
+    let pdf = || at.bsdf.pdf(at.wo, bs.wi);
+    if !at.control_variate {
+        let Some((y, light, radiance)) = scene.emitter_hit(&ray, at.x.object) else { return };
+        if radiance == Rgb::ZERO {
+            return;
+        }
+        let pdf = pdf();
+        let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, p, &y.point);
+        found(Found { value: bs.weight * radiance, pdf, pdf_other, delta: false });
+        return;
+    }
+    let pdf = pdf();
+    scene.emitters_along(&ray, at.x.object, |y, light, radiance, visible| {
+        let value = match (at.analytic(light), visible) {
+            (false, true) => bs.weight * radiance,
+            (true, false) => -(bs.weight * radiance),
+            (false, false) | (true, true) => return,
+        };
+        if radiance != Rgb::ZERO {
+            let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, p, &y.point);
+            found(Found { value, pdf, pdf_other, delta: false });
+        }
+    });
 }

@@ -42,6 +42,7 @@
 // `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod analytic;
 pub mod camera;
 pub mod colormap;
 pub mod digest;
@@ -53,6 +54,7 @@ pub mod light_sampler;
 pub mod material;
 pub mod math;
 pub mod mis;
+pub mod model;
 pub mod render;
 pub mod rng;
 pub mod sampling;
@@ -64,17 +66,21 @@ pub use camera::{Camera, CameraDesc, Film, FovAxis};
 pub use colormap::{NO_LIGHT, weight_color};
 pub use digest::{Digest, render_digest};
 pub use error::{Collection, Field, SceneError};
-pub use estimator::{Estimate, MAX_CONTRIBUTION, TechniqueEstimate, estimate_direct, trace};
+pub use estimator::{
+    Estimate, MAX_CONTRIBUTION, Shading, TechniqueEstimate, estimate_direct, estimate_direct_multi_sample,
+    estimate_direct_one_sample, trace,
+};
 pub use ids::{LightId, MaterialId, ShapeId};
 pub use light::{Emission, Light, MAX_EMISSION};
 pub use light_sampler::{
-    LightChoice, LightSample, LightSampler, LightSelection, ShadingPoint, SphereSampling,
+    LightChoice, LightSample, LightSampler, LightSelection, QuadSampling, ShadingPoint, SphereSampling,
 };
 pub use material::{BsdfSample, Material};
 pub use math::{Rgb, Vec2, Vec3};
 pub use mis::{Heuristic, Method, ParseMethodError, Technique, UnknownMethod};
+pub use model::MisModel;
 pub use render::{RenderStats, camera_sample, film_rect, render, render_pixel, render_tile, tiles, tone_map};
 pub use rng::Sampler;
 pub use scene::{Hit, Object, Scene};
-pub use settings::RenderSettings;
+pub use settings::{ControlVariate, RenderSettings};
 pub use shape::{Ray, Shape, SurfacePoint};

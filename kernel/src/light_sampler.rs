@@ -14,8 +14,12 @@
 use crate::ids::{LightId, ShapeId};
 use crate::light::Light;
 use crate::math::{Frame, Rgb, Vec2, Vec3, max0, safe_sqrt, sqrt};
-use crate::sampling::{cone_one_minus_cos, sample_uniform_cone, uniform_cone_pdf};
+use crate::sampling::{
+    SphericalRectangle, cone_one_minus_cos, sample_spherical_rectangle, sample_uniform_cone,
+    spherical_rectangle, spherical_rectangle_pdf, uniform_cone_pdf,
+};
 use crate::scene::Scene;
+use crate::shape::Rectangle;
 use crate::shape::{Shape, SurfacePoint};
 
 /// How points on sphere lights are drawn.
@@ -28,6 +32,19 @@ pub enum SphereSampling {
     /// Uniformly inside the cone the sphere subtends (falls back to area from inside).
     #[default]
     Cone,
+}
+
+/// How points on quad lights are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum QuadSampling {
+    /// Uniformly by area, converted to solid angle.
+    #[default]
+    Area,
+    /// Uniformly in the solid angle the quad subtends (spherical rectangles, Ureña et al. 2013);
+    /// by area for quads that are not rectangles and where f32 cannot resolve the solid angle
+    /// (tiny or grazing rectangles, see [`spherical_rectangle`]).
+    SolidAngle,
 }
 
 /// How a light is chosen when a scene has several.
@@ -87,13 +104,22 @@ pub struct LightSampler<'a, const S: usize, const L: usize, const M: usize> {
     scene: &'a Scene<S, L, M>,
     selection: LightSelection,
     spheres: SphereSampling,
+    quads: QuadSampling,
 }
 
 impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, M> {
-    /// The sampler of `scene`'s lights choosing by `selection`, drawing on spheres by `spheres`.
+    /// The sampler of `scene`'s lights choosing by `selection`, drawing on spheres by `spheres`
+    /// (and on quads by area, see [`LightSampler::with_quad_sampling`]).
     #[inline]
     pub fn new(scene: &'a Scene<S, L, M>, selection: LightSelection, spheres: SphereSampling) -> Self {
-        Self { scene, selection, spheres }
+        Self { scene, selection, spheres, quads: QuadSampling::Area }
+    }
+
+    /// The same sampler drawing on quads by `quads`.
+    #[inline]
+    pub fn with_quad_sampling(mut self, quads: QuadSampling) -> Self {
+        self.quads = quads;
+        self
     }
 
     /// Chooses a light with the random number `u`; `None` when the scene has no light.
@@ -132,7 +158,25 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
     #[inline]
     pub fn sample(&self, light: LightId, x: Vec3, u: Vec2) -> Option<LightSample> {
         let light = self.scene.light(light)?;
-        light.sample_li(self.scene.light_shape(light), x, u, self.spheres)
+        let shape = self.scene.light_shape(light);
+        if let (Light::Area { radiance, shape: emitter }, Some(shape)) = (light, shape) {
+            if let Some((rect, sr)) = rectangle_seen_from(shape, x, self.quads) {
+                // Decided by the setup alone, as in `pdf`: no fallback after this point.
+                let local = sample_spherical_rectangle(&sr, u)?;
+                let distance = sqrt(local.length_squared());
+                let wi = (rect.ex * local.x + rect.ey * local.y + rect.n * local.z) / distance;
+                let pdf = spherical_rectangle_pdf(&sr);
+                return (distance > 0.0 && pdf.is_finite()).then_some(LightSample {
+                    wi,
+                    distance,
+                    radiance: *radiance,
+                    pdf,
+                    delta: false,
+                    emitter: Some(*emitter),
+                });
+            }
+        }
+        light.sample_li(shape, x, u, self.spheres)
     }
 
     /// Pdf per unit solid angle at `x` with which [`LightSampler::sample`] draws the direction to
@@ -140,10 +184,35 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
     #[inline]
     pub fn pdf(&self, light: LightId, x: Vec3, y: &SurfacePoint) -> f32 {
         match self.scene.light(light) {
-            Some(light) => light.pdf_li(self.scene.light_shape(light), x, y, self.spheres),
+            Some(light) => {
+                let shape = self.scene.light_shape(light);
+                if let (Light::Area { .. }, Some((_, sr))) =
+                    (light, shape.and_then(|s| rectangle_seen_from(s, x, self.quads)))
+                {
+                    return spherical_rectangle_pdf(&sr);
+                }
+                light.pdf_li(shape, x, y, self.spheres)
+            }
             None => 0.0,
         }
     }
+}
+
+/// The spherical rectangle a rectangular quad light subtends at `x`, when quads are sampled in
+/// solid angle and f32 can resolve it (else the light is sampled by area).
+#[inline]
+fn rectangle_seen_from(
+    shape: &Shape,
+    x: Vec3,
+    quads: QuadSampling,
+) -> Option<(Rectangle, SphericalRectangle)> {
+    if quads != QuadSampling::SolidAngle {
+        return None;
+    }
+    let rect = shape.as_rectangle()?;
+    let d = rect.p0 - x;
+    let corner = Vec3::new(d.dot(rect.ex), d.dot(rect.ey), d.dot(rect.n));
+    Some((rect, spherical_rectangle(corner, rect.lengths.x, rect.lengths.y)?))
 }
 
 impl Light {

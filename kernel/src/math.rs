@@ -111,6 +111,31 @@ pub fn powf(x: f32, y: f32) -> f32 {
     libm::powf(x, y)
 }
 
+/// Arc cosine, in [0, pi] (libm's `acosf`: f32 only).
+#[inline]
+pub fn acos(x: f32) -> f32 {
+    libm::acosf(x)
+}
+
+/// The angle of the point (x, y), in (-pi, pi] (libm's `atan2f`: f32 only).
+#[inline]
+pub fn atan2(y: f32, x: f32) -> f32 {
+    libm::atan2f(y, x)
+}
+
+/// `v` limited to [lo, hi] by compare-and-select (NaN stays NaN; never panics, unlike
+/// `f32::clamp` with bounds out of order).
+#[inline]
+pub fn clamp(v: f32, lo: f32, hi: f32) -> f32 {
+    if v < lo {
+        lo
+    } else if v > hi {
+        hi
+    } else {
+        v
+    }
+}
+
 /// Rec. 709 luminance of a linear RGB value.
 #[inline]
 pub fn luminance(c: Rgb) -> f32 {

@@ -238,6 +238,25 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         }
     }
 
+    /// Calls `f` for every emitter whose front side `ray` meets (ignoring object `skip`), with the
+    /// hit, the light, its radiance, and whether it is the first surface on the ray (visible).
+    /// For the control variate, which needs the lights behind occluders too.
+    #[inline]
+    pub fn emitters_along(&self, ray: &Ray, skip: ShapeId, mut f: impl FnMut(Hit, LightId, Rgb, bool)) {
+        let nearest = self.intersect(ray, 0.0, f32::INFINITY, Some(skip)).map(|h| h.object);
+        for (i, o) in self.objects.iter().enumerate() {
+            let Some(light) = o.light else { continue };
+            if i == skip.index() {
+                continue;
+            }
+            let Some(t) = o.shape.intersect(ray, 0.0, f32::INFINITY) else { continue };
+            let Some(hit) = self.hit(ray, t, i).filter(|h| h.front) else { continue };
+            if let Some(Light::Area { radiance, .. }) = self.lights.get(light.index()) {
+                f(hit, light, *radiance, nearest == Some(hit.object));
+            }
+        }
+    }
+
     /// True when nothing but objects `a` and `b` lies on the ray before `t_max`.
     #[inline]
     pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: ShapeId, b: Option<ShapeId>) -> bool {

@@ -1,8 +1,9 @@
 //! Render settings: which techniques, how many samples, how they are combined, and the seed.
 
 use crate::error::{Field, SceneError};
-use crate::light_sampler::{LightSelection, SphereSampling};
+use crate::light_sampler::{LightSelection, QuadSampling, SphereSampling};
 use crate::mis::Method;
+use crate::model::MisModel;
 
 /// Validated settings for one render. A seed fully determines the image.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -15,6 +16,21 @@ pub struct RenderSettings {
     seed: u32,
     spheres: SphereSampling,
     selection: LightSelection,
+    model: MisModel,
+    quads: QuadSampling,
+    control_variate: ControlVariate,
+}
+
+/// Whether the unoccluded light reaching a Lambertian receiver is computed in closed form, with
+/// Monte Carlo left for the shadows only (see [`crate::analytic`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ControlVariate {
+    /// Every light is estimated by sampling alone.
+    #[default]
+    Off,
+    /// Integral f V = integral f (closed form) + integral f (V - 1) (sampled with MIS).
+    On,
 }
 
 impl RenderSettings {
@@ -43,7 +59,32 @@ impl RenderSettings {
             seed,
             spheres: SphereSampling::default(),
             selection: LightSelection::default(),
+            model: MisModel::default(),
+            quads: QuadSampling::default(),
+            control_variate: ControlVariate::default(),
         })
+    }
+
+    /// The same settings with another MIS model. The one-sample model's `c_light` must be in
+    /// [0, 1] (0 and 1 are BSDF or light sampling alone).
+    pub fn with_mis_model(mut self, model: MisModel) -> Result<Self, SceneError> {
+        self.model = match model {
+            MisModel::Multi => model,
+            MisModel::One { c_light } => MisModel::one(c_light)?,
+        };
+        Ok(self)
+    }
+
+    /// The same settings with another quad-light sampling strategy.
+    pub fn with_quad_sampling(mut self, quads: QuadSampling) -> Self {
+        self.quads = quads;
+        self
+    }
+
+    /// The same settings with the analytic control variate on or off.
+    pub fn with_control_variate(mut self, control_variate: ControlVariate) -> Self {
+        self.control_variate = control_variate;
+        self
     }
 
     /// The same settings with another sphere-light sampling strategy.
@@ -77,9 +118,16 @@ impl RenderSettings {
     pub fn method(&self) -> Method {
         self.method
     }
-    /// Light and BSDF samples actually drawn per camera sample.
+    /// Light and BSDF samples actually drawn per camera sample (in the one-sample model: at most
+    /// one of either, whatever the counts, as `c_light` allows).
     pub fn technique_samples(&self) -> (u16, u16) {
-        self.method.sample_counts(self.light_samples, self.bsdf_samples)
+        match self.model {
+            MisModel::Multi => self.method.sample_counts(self.light_samples, self.bsdf_samples),
+            MisModel::One { .. } => {
+                let c = self.c_light();
+                (u16::from(c > 0.0), u16::from(c < 1.0))
+            }
+        }
     }
     /// Camera samples per pixel.
     pub fn spp(&self) -> u32 {
@@ -96,6 +144,28 @@ impl RenderSettings {
     /// Light-selection strategy.
     pub fn light_selection(&self) -> LightSelection {
         self.selection
+    }
+    /// The MIS model.
+    pub fn mis_model(&self) -> MisModel {
+        self.model
+    }
+    /// Probability of the light technique in the one-sample model: `c_light` for a heuristic,
+    /// 1 for light sampling alone and 0 for BSDF sampling alone.
+    pub fn c_light(&self) -> f32 {
+        match (self.method, self.model) {
+            (Method::LightOnly, _) => 1.0,
+            (Method::BsdfOnly, _) => 0.0,
+            (Method::Mis(_), MisModel::One { c_light }) => c_light,
+            (Method::Mis(_), MisModel::Multi) => crate::model::DEFAULT_C_LIGHT,
+        }
+    }
+    /// Quad-light sampling strategy.
+    pub fn quad_sampling(&self) -> QuadSampling {
+        self.quads
+    }
+    /// The analytic control variate.
+    pub fn control_variate(&self) -> ControlVariate {
+        self.control_variate
     }
 }
 
@@ -119,5 +189,11 @@ mod tests {
         let ok = RenderSettings::new(p(2.0), 1, 0, 1, 0).unwrap();
         assert_eq!(ok.with_spp(0), Err(SceneError::NonPositive(Field::SamplesPerPixel)));
         assert_eq!(ok.with_spp(8).map(|s| s.spp()), Ok(8));
+        let bad = MisModel::One { c_light: 1.5 };
+        assert_eq!(ok.with_mis_model(bad), Err(SceneError::OutOfRange(Field::CLight)));
+        let one = ok.with_mis_model(MisModel::One { c_light: 0.25 }).unwrap();
+        assert_eq!(one.c_light(), 0.25);
+        let light = RenderSettings::new(Method::LightOnly, 1, 1, 1, 0).unwrap();
+        assert_eq!(light.with_mis_model(MisModel::One { c_light: 0.25 }).unwrap().c_light(), 1.0);
     }
 }

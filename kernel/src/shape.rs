@@ -55,6 +55,21 @@ pub struct Quad {
     area: f32,
 }
 
+/// A rectangular quad in the form [`Shape::as_rectangle`] gives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rectangle {
+    /// A corner.
+    pub p0: Vec3,
+    /// Unit direction of the first edge from `p0`.
+    pub ex: Vec3,
+    /// Unit direction of the second edge, `n x ex`.
+    pub ey: Vec3,
+    /// Front normal.
+    pub n: Vec3,
+    /// Lengths of the edges along `ex` and `ey`.
+    pub lengths: Vec2,
+}
+
 /// The closed set of shapes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
@@ -206,6 +221,34 @@ impl Shape {
         match self {
             Shape::Sphere(s) => Some((s.center, s.radius)),
             Shape::Quad(_) => None,
+        }
+    }
+
+    /// A quad whose edges are perpendicular (to 1e-5 of their lengths' product), as its corner
+    /// `p0`, unit edge directions `ex` and `ey = n x ex` (a right-handed frame with the front
+    /// normal `n`), and edge lengths: what sampling in solid angle needs.
+    #[inline]
+    pub fn as_rectangle(&self) -> Option<Rectangle> {
+        match self {
+            Shape::Sphere(_) => None,
+            Shape::Quad(q) => {
+                let (l1, l2) = (sqrt(q.e1.length_squared()), sqrt(q.e2.length_squared()));
+                let perpendicular = q.e1.dot(q.e2).abs() <= 1e-5 * l1 * l2;
+                if !(perpendicular && l1 > 0.0 && l2 > 0.0) {
+                    return None;
+                }
+                let ex = q.e1 / l1;
+                Some(Rectangle { p0: q.p0, ex, ey: q.n.cross(ex), n: q.n, lengths: Vec2::new(l1, l2) })
+            }
+        }
+    }
+
+    /// A quad's four corners `p0, p0 + e1, p0 + e1 + e2, p0 + e2` (front side along e1 x e2).
+    #[inline]
+    pub fn corners(&self) -> Option<[Vec3; 4]> {
+        match self {
+            Shape::Sphere(_) => None,
+            Shape::Quad(q) => Some([q.p0, q.p0 + q.e1, q.p0 + q.e1 + q.e2, q.p0 + q.e2]),
         }
     }
 

@@ -118,12 +118,16 @@ impl Neg for DVec3 {
 // ---------------------------------------------------------------------------------------------
 // Running statistics
 
-/// Running mean and variance of a stream of samples (Welford's algorithm, f64).
+/// Running mean and variance of a stream of samples (Welford's algorithm, f64), with the third
+/// and fourth central moments (Terriberry's and Pebay's updates) for the standard error of the
+/// sample variance.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Stats {
     n: u64,
     mean: f64,
     m2: f64,
+    m3: f64,
+    m4: f64,
 }
 
 impl Stats {
@@ -134,8 +138,14 @@ impl Stats {
 
     /// Adds one sample.
     pub fn push(&mut self, x: f64) {
+        let n1 = self.n as f64;
         self.n += 1;
+        let n = self.n as f64;
         let d = x - self.mean;
+        let dn = d / n;
+        let term1 = d * dn * n1;
+        self.m4 += term1 * dn * dn * (n * n - 3.0 * n + 3.0) + 6.0 * dn * dn * self.m2 - 4.0 * dn * self.m3;
+        self.m3 += term1 * dn * (n - 2.0) - 3.0 * dn * self.m2;
         self.mean += d / self.n as f64;
         self.m2 += d * (x - self.mean);
     }
@@ -160,6 +170,17 @@ impl Stats {
         (self.variance() / self.n as f64).sqrt()
     }
 
+    /// Standard error of [`Stats::variance`], from the fourth central moment:
+    /// Var[s^2] = (mu_4 - sigma^4 (n - 3) / (n - 1)) / n.
+    pub fn variance_stderr(&self) -> f64 {
+        if self.n < 4 {
+            return f64::INFINITY;
+        }
+        let n = self.n as f64;
+        let (mu4, var) = (self.m4 / n, self.variance());
+        ((mu4 - var * var * (n - 3.0) / (n - 1.0)) / n).max(0.0).sqrt()
+    }
+
     /// Adds all samples of `other` (Chan et al.'s pairwise update).
     pub fn merge(&mut self, other: &Stats) {
         let n = self.n + other.n;
@@ -167,7 +188,14 @@ impl Stats {
             return;
         }
         let d = other.mean - self.mean;
-        let (na, nb) = (self.n as f64, other.n as f64);
+        let (na, nb, nf) = (self.n as f64, other.n as f64, n as f64);
+        self.m4 += other.m4
+            + d.powi(4) * na * nb * (na * na - na * nb + nb * nb) / nf.powi(3)
+            + 6.0 * d * d * (na * na * other.m2 + nb * nb * self.m2) / (nf * nf)
+            + 4.0 * d * (na * other.m3 - nb * self.m3) / nf;
+        self.m3 += other.m3
+            + d.powi(3) * na * nb * (na - nb) / (nf * nf)
+            + 3.0 * d * (na * other.m2 - nb * self.m2) / nf;
         self.mean += d * nb / n as f64;
         self.m2 += other.m2 + d * d * na * nb / n as f64;
         self.n = n;
@@ -936,6 +964,33 @@ mod tests {
             s.push(1.0 + 0.01 * f64::from(i % 2));
         }
         assert_unbiased("biased", &s, 1.1, 0.02);
+    }
+
+    #[test]
+    fn variance_stderr_matches_the_fourth_moment() {
+        // The running moments against a two-pass computation of the same formula.
+        let mut s = Stats::new();
+        let xs: Vec<f64> = (0..4000).map(|i| f64::from(i % 4 == 0) * 3.0 + f64::from(i % 7) * 0.1).collect();
+        for &x in &xs {
+            s.push(x);
+        }
+        let n = xs.len() as f64;
+        let mean = xs.iter().sum::<f64>() / n;
+        let mu4 = xs.iter().map(|x| (x - mean).powi(4)).sum::<f64>() / n;
+        let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        let expect = ((mu4 - var * var * (n - 3.0) / (n - 1.0)) / n).sqrt();
+        assert!((s.variance_stderr() / expect - 1.0).abs() < 1e-9, "{} vs {expect}", s.variance_stderr());
+        // Merging two halves gives the same moments as one pass.
+        let (mut a, mut b) = (Stats::new(), Stats::new());
+        for (i, &x) in xs.iter().enumerate() {
+            if i < 1234 { a.push(x) } else { b.push(x) }
+        }
+        a.merge(&b);
+        assert!((a.variance_stderr() / expect - 1.0).abs() < 1e-9);
+        // A constant stream: no spread of the variance at all.
+        let mut c = Stats::new();
+        (0..100).for_each(|_| c.push(2.0));
+        assert_eq!(c.variance_stderr(), 0.0);
     }
 
     #[test]

@@ -30,8 +30,8 @@
 //! rows; each group fails if a row of its run is missing from either (the figures cannot go stale).
 
 use picomis::{
-    Film, Hit, LightSelection, Material, MaterialId, Method, Ray, RenderSettings, Rgb, Scene, Shape,
-    SphereSampling, Technique, Vec3,
+    ControlVariate, Film, Hit, LightSelection, Material, MaterialId, Method, QuadSampling, Ray,
+    RenderSettings, Rgb, Scene, Shape, SphereSampling, Technique, Vec3,
 };
 use picomis_tests::{
     DVec3, DirectStats, Stats, camera, check_unbiased, check_z, d3, direct_stats, floor_corners,
@@ -154,6 +154,9 @@ struct Case {
     points: Vec<(Hit, Vec3)>,
     n: u32,
     selection: LightSelection,
+    /// Quad-light sampling and control variate of every method of the case.
+    quads: QuadSampling,
+    control_variate: ControlVariate,
     reference: Reference,
     /// Methods not checked with [`Check::Total`], and why.
     except: Vec<(Col, Check, &'static str)>,
@@ -173,6 +176,8 @@ impl Case {
             points,
             n: N,
             selection: LightSelection::Uniform,
+            quads: QuadSampling::Area,
+            control_variate: ControlVariate::Off,
             reference,
             except: Vec::new(),
             anchor: None,
@@ -186,6 +191,23 @@ impl Case {
 
     fn selection(mut self, selection: LightSelection) -> Self {
         self.selection = selection;
+        self
+    }
+
+    /// The same case with quads sampled in solid angle, labelled so.
+    fn solid_angle(mut self) -> Self {
+        self.quads = QuadSampling::SolidAngle;
+        self.label += ", quads by solid angle";
+        self.except.clear();
+        self
+    }
+
+    /// The same case with the analytic control variate, labelled so (with no occluder, every
+    /// method then gets the closed form wherever the kernel has one).
+    fn control_variate(mut self) -> Self {
+        self.control_variate = ControlVariate::On;
+        self.label += ", control variate";
+        self.except.clear();
         self
     }
 
@@ -295,6 +317,7 @@ struct Run {
 }
 
 fn run(case: &Case, settings: &RenderSettings, stream: u32, n: u32) -> Run {
+    let settings = &settings.with_quad_sampling(case.quads).with_control_variate(case.control_variate);
     let k = case.points.len() as u32;
     let mut st = DirectStats::default();
     for (j, (hit, wo)) in case.points.iter().enumerate() {
@@ -361,6 +384,7 @@ fn run_case(case: &Case, id: u32) -> Outcome {
     }
 
     let mut cells = Vec::new();
+    let mut totals = Vec::new();
     for (k, col) in COLS.into_iter().enumerate() {
         let name = format!("{label}, {}", col.name());
         let r = run(case, &col.settings(case.selection), 16 * id + k as u32, case.n);
@@ -423,10 +447,58 @@ fn run_case(case: &Case, id: u32) -> Outcome {
             failures.push(e);
         }
         cells.push(cell(case, col, check, &r, reference));
+        totals.push((col, check, r.total));
+    }
+    // Veach's bound on the balance heuristic against every other method that converges here.
+    let converges = |c: Check| matches!(c, Check::Total | Check::ZeroVariance);
+    if let Some(&(_, bal_check, balance)) = totals.iter().find(|(c, ..)| *c == Col::Balance) {
+        if reference != 0.0 && converges(bal_check) {
+            let mut worst = f64::NEG_INFINITY;
+            for (col, _, other) in totals.iter().filter(|(c, k, _)| *c != Col::Balance && converges(*k)) {
+                let name = format!("{label}, Veach's bound, balance vs {}", col.name());
+                match check_veach_bound(&name, &balance, other, reference, VEACH_BOUND) {
+                    Ok(z) => worst = worst.max(z),
+                    Err(e) => failures.push(e),
+                }
+            }
+            notes.push(format!("{label}: Veach's bound holds, largest z = {worst:.2}"));
+        }
     }
     let row = format!("| {label} | {reference_text} | {} | {} |", case.n, cells.join(" | "));
     notes.push(format!("{label}: {:.2} s", start.elapsed().as_secs_f64()));
     Outcome { row, notes, failures }
+}
+
+/// Veach's bound factor (1 / min_i n_i - 1 / sum_i n_i) for sample counts `n`.
+fn veach_bound(n: &[f64]) -> f64 {
+    1.0 / n.iter().copied().fold(f64::INFINITY, f64::min) - 1.0 / n.iter().sum::<f64>()
+}
+
+/// Veach's bound for one light and one BSDF sample: 1/2.
+const VEACH_BOUND: f64 = 0.5;
+
+/// Veach's bound (MIS-NOTES section 1) as a one-sided z-test: V[F_balance] - V[F_other] <= c mu^2
+/// for any other weighting with the same sample counts, from the two runs' sample variances.
+/// The runs are independent, so the variance of the difference is the sum of the variances of
+/// the two sample variances, each from its fourth moment ([`Stats::variance_stderr`]). Fails when
+/// the excess is more than 4 standard errors above c mu^2. Returns the excess in standard errors.
+fn check_veach_bound(name: &str, balance: &Stats, other: &Stats, mu: f64, c: f64) -> Result<f64, String> {
+    let excess = balance.variance() - other.variance() - c * mu * mu;
+    let se = balance.variance_stderr().hypot(other.variance_stderr());
+    let z = if se > 0.0 { excess / se } else { excess.signum() * f64::INFINITY };
+    if excess <= 4.0 * se + 1e-9 * mu * mu {
+        Ok(z)
+    } else {
+        Err(format!(
+            "{name}: V[balance] - V[other] = {:.4e} mu^2 exceeds the bound {c} mu^2 by {z:.1} standard errors \
+             (V[balance] = {:.4e} ± {:.1e}, V[other] = {:.4e} ± {:.1e}, mu = {mu:.4e})",
+            (balance.variance() - other.variance()) / (mu * mu),
+            balance.variance(),
+            balance.variance_stderr(),
+            other.variance(),
+            other.variance_stderr()
+        ))
+    }
 }
 
 /// A table cell: the relative variance of the method, with a mark for what was asserted.
@@ -637,6 +709,21 @@ fn huge_quad() -> Case {
 }
 
 #[test]
+fn quads_by_solid_angle_and_control_variate() {
+    run_group(
+        6,
+        vec![
+            huge_quad().solid_angle(),
+            lit_quad().solid_angle(),
+            lit_quad().control_variate(),
+            lit_sphere().control_variate(),
+            below_horizon().control_variate(),
+            huge_quad().control_variate(),
+        ],
+    );
+}
+
+#[test]
 fn huge_and_close_lights() {
     run_group(2, vec![almost_touching(), touching(), inside(), huge_quad()]);
 }
@@ -720,6 +807,28 @@ fn below_horizon() -> Case {
         wo_default(),
         Reference::Agreement,
     )
+}
+
+/// The bound check can fail: a wrong bound (c = 0: "balance is always best", which Veach's bound
+/// does not claim in the multi-sample model) and a wrong weighting put in the balance heuristic's
+/// place (the arithmetic average) are both caught at the grazing-view Lambertian case, where the
+/// power heuristic beats balance and the average is far worse than both.
+#[test]
+fn veach_bound_check_can_fail() {
+    assert_eq!(veach_bound(&[1.0, 1.0]), VEACH_BOUND);
+    let case = grazing_view_lambert();
+    let Reference::Exact(mu) = case.reference else { unreachable!("the case has a closed form") };
+    let total = |col: Col, k: u32| run(&case, &col.settings(case.selection), 16 * 900 + k, case.n).total;
+    let (balance, power, average) = (total(Col::Balance, 0), total(Col::Power, 1), total(Col::Average, 2));
+    let name = "grazing view";
+    let z = check_veach_bound(name, &balance, &power, mu, VEACH_BOUND).unwrap();
+    println!("balance vs power, true bound: z = {z:.2}");
+    let wrong_bound = check_veach_bound(name, &balance, &power, mu, 0.0);
+    println!("balance vs power, c = 0: {wrong_bound:?}");
+    assert!(wrong_bound.is_err(), "a bound of 0 must fail where power beats balance");
+    let wrong_weights = check_veach_bound(name, &average, &power, mu, VEACH_BOUND);
+    println!("average in balance's place: {wrong_weights:?}");
+    assert!(wrong_weights.is_err(), "the average in balance's place must fail the bound");
 }
 
 #[test]
