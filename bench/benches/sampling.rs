@@ -45,11 +45,13 @@ fn routines(c: &mut Criterion) {
     let total: f32 = weights.iter().sum();
     cycle(&mut g, "sample_discrete_16", |i| sample_discrete(&weights, total, t.u1[i]));
     cycle(&mut g, "discrete_pdf_16", |i| discrete_pdf(&weights, total, i & 15));
-    let mut sampler = Sampler::new(1, 2, 3);
-    cycle(&mut g, "sampler_new_next_2d", |i| {
-        sampler = Sampler::new(7, i as u32, 0);
-        sampler.next_2d()
-    });
+    for kind in picomis::SamplerKind::ALL {
+        let mut sampler = Sampler::with_kind(kind, 1, 2, 3);
+        cycle(&mut g, &format!("sampler_new_next_2d_{}", kind.name()), |i| {
+            sampler = Sampler::with_kind(kind, 7, i as u32, 0);
+            sampler.next_2d()
+        });
+    }
     g.finish();
 }
 
@@ -152,7 +154,7 @@ fn scene_queries(c: &mut Criterion) {
     });
     cycle(&mut g, "sample_light_cone", |i| {
         let p = shadow[i].0.origin;
-        scene.sample_light(p, t.u1[i], t.u[i], SphereSampling::Cone, picomis::LightSelection::Uniform)
+        scene.sample_light(p, t.u[i], SphereSampling::Cone, picomis::LightSelection::Uniform)
     });
     g.finish();
 }

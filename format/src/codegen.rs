@@ -121,10 +121,11 @@ pub(crate) fn module(s: &SceneFile) -> String {
     let _ = writeln!(o, "pub fn settings() -> Result<picomis::RenderSettings, picomis::SceneError> {{");
     let _ = writeln!(
         o,
-        "    picomis::RenderSettings::new({}, {}, {}, 1, 0)",
+        "    Ok(picomis::RenderSettings::new({}, {}, {}, 1, 0)?.with_sampler(picomis::SamplerKind::{:?}))",
         method(s.method),
         s.light_samples,
-        s.bsdf_samples
+        s.bsdf_samples,
+        s.sampler
     );
     let _ = writeln!(o, "}}");
     o

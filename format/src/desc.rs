@@ -94,6 +94,9 @@ struct IntegratorDesc {
     beta: f32,
     #[serde(default = "default_alpha")]
     alpha: f32,
+    /// Sample stream (`SamplerKind::name`); the kernel's default when absent.
+    #[serde(default)]
+    sampler: Option<String>,
 }
 
 fn default_beta() -> f32 {
@@ -264,6 +267,13 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
     let method = parse_method(&ig.mis, ig.beta, ig.alpha).map_err(|r| fail("integrator.mis", r))?;
     picomis::RenderSettings::new(method, ig.emitter_samples, ig.bsdf_samples, 1, 0)
         .map_err(|e| kernel("integrator", e))?;
+    let sampler = match ig.sampler.as_deref() {
+        None => picomis::SamplerKind::default(),
+        Some(name) => picomis::SamplerKind::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = picomis::SamplerKind::ALL.iter().map(|k| k.name()).collect();
+            fail("integrator.sampler", format!("unknown sampler {name:?} (expected {})", names.join(" or ")))
+        })?,
+    };
 
     let mut steps = Vec::new();
     let mut material_index = BTreeMap::new();
@@ -362,6 +372,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
         film,
         camera,
         method,
+        sampler,
         light_samples: ig.emitter_samples,
         bsdf_samples: ig.bsdf_samples,
         steps,

@@ -17,8 +17,8 @@ use std::fmt;
 use std::path::Path;
 
 use picomis::{
-    Camera, CameraDesc, Collection, Film, Heuristic, Material, Method, RenderSettings, Rgb, Scene,
-    SceneError, Shape, Vec3,
+    Camera, CameraDesc, Collection, Film, Heuristic, Material, Method, RenderSettings, Rgb, SamplerKind,
+    Scene, SceneError, Shape, Vec3,
 };
 
 /// Why a scene file could not be loaded: which file, which entry, and why.
@@ -84,6 +84,7 @@ pub struct SceneFile {
     film: Film,
     camera: CameraDesc,
     method: Method,
+    sampler: SamplerKind,
     light_samples: u16,
     bsdf_samples: u16,
     steps: Vec<Step>,
@@ -185,7 +186,13 @@ impl SceneFile {
     /// The integrator block's defaults: method and sample counts (1 spp, seed 0).
     pub fn default_settings(&self) -> Result<RenderSettings, LoadError> {
         RenderSettings::new(self.method, self.light_samples, self.bsdf_samples, 1, 0)
+            .map(|s| s.with_sampler(self.sampler))
             .map_err(|e| self.error("integrator", e))
+    }
+
+    /// The sample stream of the integrator block.
+    pub fn default_sampler(&self) -> SamplerKind {
+        self.sampler
     }
 
     /// The default method of the integrator block.

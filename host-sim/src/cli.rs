@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Parser, Subcommand, ValueEnum};
-use picomis::{Film, Heuristic, LightSelection, Method, RenderSettings, SphereSampling};
+use picomis::{Film, Heuristic, LightSelection, Method, RenderSettings, SamplerKind, SphereSampling};
 use picomis_format::parse_method;
 
 use crate::SimError;
@@ -85,6 +85,10 @@ pub struct RenderArgs {
     /// How a light is chosen among several.
     #[arg(long, value_enum, default_value_t = LightSelectionArg::Uniform)]
     pub light_selection: LightSelectionArg,
+    /// Sample stream: sobol (padded Owen-scrambled Sobol) or independent (default: the scene's
+    /// integrator block, else sobol).
+    #[arg(long, value_name = "S", value_parser = parse_sampler)]
+    pub sampler: Option<SamplerKind>,
     /// Seed: the same seed gives the same image, on any number of threads.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -151,6 +155,14 @@ fn default_out(name: &str, suffix: &str) -> PathBuf {
         stem = "scene".into();
     }
     PathBuf::from(format!("{stem}{suffix}"))
+}
+
+/// A sample stream by name ([`SamplerKind::name`]).
+pub fn parse_sampler(name: &str) -> Result<SamplerKind, String> {
+    SamplerKind::from_name(name).ok_or_else(|| {
+        let names: Vec<&str> = SamplerKind::ALL.iter().map(|k| k.name()).collect();
+        format!("unknown sampler {name:?} (expected {})", names.join(" or "))
+    })
 }
 
 /// The CLI name of a method.
@@ -224,7 +236,8 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
         LightSelectionArg::Uniform => LightSelection::Uniform,
         LightSelectionArg::Power => LightSelection::Power,
     };
-    Ok(settings.with_sphere_sampling(spheres).with_light_selection(selection))
+    let sampler = args.sampler.unwrap_or(loaded.file.default_sampler());
+    Ok(settings.with_sphere_sampling(spheres).with_light_selection(selection).with_sampler(sampler))
 }
 
 /// The film from the scene and `--width` / `--height`.

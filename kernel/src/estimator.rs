@@ -8,7 +8,7 @@
 //! are kept apart, so the seed's weight and contribution images come from this one function.
 
 use crate::light::Light;
-use crate::math::{Frame, Rgb, Vec2, Vec3, finite3};
+use crate::math::{Frame, Rgb, Vec3, finite3};
 use crate::mis::Technique;
 use crate::rng::Sampler;
 use crate::scene::{Hit, Scene};
@@ -130,9 +130,7 @@ pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
 
     // Technique 1, light sampling: y on a light, visibility, w_l L_e f cos / (n_l p_l).
     for _ in 0..n_l {
-        let u_select = sampler.next_f32();
-        let u: Vec2 = sampler.next_2d();
-        let Some((ls, light_object)) = scene.sample_light(p, u_select, u, spheres, selection) else {
+        let Some((ls, light_object)) = scene.sample_light(p, sampler.next_2d(), spheres, selection) else {
             continue;
         };
         let wi = frame.to_local(ls.wi);

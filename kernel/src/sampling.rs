@@ -144,10 +144,26 @@ pub fn ggx_vndf_pdf(wo: Vec3, m: Vec3, alpha: f32) -> f32 {
     ggx_g1(wo, alpha) * max0(wo.dot(m)) * ggx_d(m, alpha) / wo.z
 }
 
+/// The largest f32 below one: remapped numbers are clamped to it, so they stay in [0, 1).
+pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// A chosen index, its probability, and the random number that chose it rescaled to [0, 1)
+/// within the index's interval, so it can be used again (a 2-D sample then stays stratified
+/// across the choice and the rest of the sample).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiscreteSample {
+    /// The index.
+    pub index: usize,
+    /// Its probability.
+    pub prob: f32,
+    /// `(u - cdf(index - 1)) / prob`, in [0, 1).
+    pub u_remapped: f32,
+}
+
 /// Picks index `i` with probability `weights[i] / total` by a linear scan (small light lists).
-/// Returns the index and its probability; `None` when no weight is positive.
+/// `None` when no weight is positive.
 #[inline]
-pub fn sample_discrete(weights: &[f32], total: f32, u: f32) -> Option<(usize, f32)> {
+pub fn sample_discrete(weights: &[f32], total: f32, u: f32) -> Option<DiscreteSample> {
     if !(total > 0.0) || !total.is_finite() {
         return None;
     }
@@ -156,8 +172,10 @@ pub fn sample_discrete(weights: &[f32], total: f32, u: f32) -> Option<(usize, f3
     let mut last = None;
     for (i, &w) in weights.iter().enumerate() {
         if w > 0.0 {
+            let below = acc;
             acc += w;
-            last = Some((i, w / total));
+            let u_remapped = ((target - below) / w).clamp(0.0, ONE_MINUS_EPSILON);
+            last = Some(DiscreteSample { index: i, prob: w / total, u_remapped });
             if target < acc {
                 return last;
             }
@@ -165,6 +183,18 @@ pub fn sample_discrete(weights: &[f32], total: f32, u: f32) -> Option<(usize, f3
     }
     // Rounding can leave `target` just above the last partial sum: take the last positive entry.
     last
+}
+
+/// Picks one of `n` indices uniformly; `None` when `n` is 0.
+#[inline]
+pub fn sample_uniform_index(n: usize, u: f32) -> Option<DiscreteSample> {
+    if n == 0 {
+        return None;
+    }
+    let scaled = u * n as f32;
+    let index = (scaled as usize).min(n - 1);
+    let u_remapped = (scaled - index as f32).clamp(0.0, ONE_MINUS_EPSILON);
+    Some(DiscreteSample { index, prob: 1.0 / n as f32, u_remapped })
 }
 
 /// Probability of index `i` under [`sample_discrete`].
@@ -219,9 +249,16 @@ mod tests {
     #[test]
     fn discrete_sampling_returns_positive_entries_only() {
         let w = [0.0, 2.0, 0.0, 1.0];
-        assert_eq!(sample_discrete(&w, 3.0, 0.0), Some((1, 2.0 / 3.0)));
-        assert_eq!(sample_discrete(&w, 3.0, 0.9), Some((3, 1.0 / 3.0)));
-        assert_eq!(sample_discrete(&w, 3.0, 0.999_999_9), Some((3, 1.0 / 3.0)));
+        let pick = |u| sample_discrete(&w, 3.0, u).map(|d| (d.index, d.prob, d.u_remapped));
+        assert_eq!(pick(0.0), Some((1, 2.0 / 3.0, 0.0)));
+        assert_eq!(pick(0.5), Some((1, 2.0 / 3.0, 0.75)));
+        assert_eq!(pick(0.9), Some((3, 1.0 / 3.0, 0.6999998)));
+        assert_eq!(pick(0.999_999_9), Some((3, 1.0 / 3.0, 0.9999995)));
+        let uniform = |u| sample_uniform_index(4, u).map(|d| (d.index, d.prob, d.u_remapped));
+        assert_eq!(uniform(0.0), Some((0, 0.25, 0.0)));
+        assert_eq!(uniform(0.625), Some((2, 0.25, 0.5)));
+        assert_eq!(uniform(ONE_MINUS_EPSILON), Some((3, 0.25, 0.99999976)));
+        assert_eq!(sample_uniform_index(0, 0.5), None);
         assert_eq!(sample_discrete(&[0.0], 0.0, 0.5), None);
         assert_eq!(discrete_pdf(&w, 3.0, 0), 0.0);
         assert_eq!(discrete_pdf(&w, 3.0, 9), 0.0);

@@ -9,7 +9,7 @@ use crate::error::{Collection, Field, SceneError};
 use crate::light::{Light, LightSample, LightSelection, SphereSampling};
 use crate::material::Material;
 use crate::math::{Rgb, Vec2, Vec3, finite3};
-use crate::sampling::{discrete_pdf, sample_discrete};
+use crate::sampling::{DiscreteSample, discrete_pdf, sample_discrete, sample_uniform_index};
 use crate::shape::{Ray, Shape, SurfacePoint};
 
 /// Index of a material in its scene.
@@ -280,18 +280,19 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// Chooses a light for a light sample: its index and selection probability.
     #[inline]
     pub fn select_light(&self, u: f32, selection: LightSelection) -> Option<(usize, f32)> {
-        let n = self.lights.len();
-        if n == 0 {
-            return None;
-        }
+        self.choose_light(u, selection).map(|d| (d.index, d.prob))
+    }
+
+    /// [`Scene::select_light`], also returning `u` rescaled within the chosen light's interval.
+    #[inline]
+    pub fn choose_light(&self, u: f32, selection: LightSelection) -> Option<DiscreteSample> {
         if let LightSelection::Power = selection {
             if let Some(pick) = sample_discrete(&self.light_power, self.total_power, u) {
                 return Some(pick);
             }
         }
         // Uniform (also when no light has power).
-        let i = ((u * n as f32) as usize).min(n - 1);
-        Some((i, 1.0 / n as f32))
+        sample_uniform_index(self.lights.len(), u)
     }
 
     /// Probability that [`Scene::select_light`] picks light `i`.
@@ -309,20 +310,21 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         }
     }
 
-    /// Light sampling from `x`: chooses a light, then a point on it. The returned pdf includes
-    /// the selection probability. Also returns the light's emitting object, if any.
+    /// Light sampling from `x` with one 2-D random point: `u.x` chooses a light and, rescaled
+    /// within that light's interval, goes on with `u.y` to choose the point on it (as Mitsuba
+    /// does), so a stratified `u` stays stratified for every light. The returned pdf includes the
+    /// selection probability. Also returns the light's emitting object, if any.
     #[inline]
     pub fn sample_light(
         &self,
         x: Vec3,
-        u_select: f32,
         u: Vec2,
         spheres: SphereSampling,
         selection: LightSelection,
     ) -> Option<(LightSample, Option<usize>)> {
-        let (i, p_select) = self.select_light(u_select, selection)?;
+        let DiscreteSample { index: i, prob: p_select, u_remapped } = self.choose_light(u.x, selection)?;
         let light = self.lights.get(i)?;
-        let sample = light.sample_li(self.light_shape(light), x, u, spheres)?;
+        let sample = light.sample_li(self.light_shape(light), x, Vec2::new(u_remapped, u.y), spheres)?;
         let object = match light {
             Light::Area { shape, .. } => Some(usize::from(*shape)),
             Light::Point { .. } => None,

@@ -3,6 +3,7 @@
 use crate::error::{Field, SceneError};
 use crate::light::{LightSelection, SphereSampling};
 use crate::mis::{Heuristic, Method};
+use crate::rng::SamplerKind;
 
 /// Validated settings for one render. A seed fully determines the image.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -15,6 +16,7 @@ pub struct RenderSettings {
     seed: u32,
     spheres: SphereSampling,
     selection: LightSelection,
+    sampler: SamplerKind,
 }
 
 impl RenderSettings {
@@ -51,6 +53,7 @@ impl RenderSettings {
             seed,
             spheres: SphereSampling::default(),
             selection: LightSelection::default(),
+            sampler: SamplerKind::default(),
         })
     }
 
@@ -63,6 +66,12 @@ impl RenderSettings {
     /// The same settings with another light-selection strategy.
     pub fn with_light_selection(mut self, selection: LightSelection) -> Self {
         self.selection = selection;
+        self
+    }
+
+    /// The same settings with another sample stream.
+    pub fn with_sampler(mut self, sampler: SamplerKind) -> Self {
+        self.sampler = sampler;
         self
     }
 
@@ -104,6 +113,10 @@ impl RenderSettings {
     /// Light-selection strategy.
     pub fn light_selection(&self) -> LightSelection {
         self.selection
+    }
+    /// Sample stream.
+    pub fn sampler(&self) -> SamplerKind {
+        self.sampler
     }
 }
 

@@ -209,6 +209,15 @@ impl Shape {
         }
     }
 
+    /// Radius of a sphere around [`Shape::centroid`] that holds the shape.
+    #[inline]
+    pub fn bounding_radius(&self) -> f32 {
+        match self {
+            Shape::Sphere(s) => s.radius,
+            Shape::Quad(q) => 0.5 * (q.e1 + q.e2).length().max((q.e1 - q.e2).length()),
+        }
+    }
+
     /// A point the shape surrounds or lies on (sphere center, quad centroid).
     #[inline]
     pub fn centroid(&self) -> Vec3 {

@@ -398,8 +398,7 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
             prop_assert_eq!(pdf, material.pdf(wo, wr));
 
             // A light sample.
-            let (u_select, u) = (rng.next_f32(), rng.next_2d());
-            if let Some((ls, light_object)) = scene.sample_light(p, u_select, u, spheres, selection) {
+            if let Some((ls, light_object)) = scene.sample_light(p, rng.next_2d(), spheres, selection) {
                 let what = format!("{at}: light sample {ls:?}");
                 prop_assert!(ls.pdf.is_finite() && ls.pdf > 0.0, "{what}: pdf");
                 prop_assert!(

@@ -417,8 +417,7 @@ fn chi2_scene_light_sampling() {
             let (mut point, mut none) = ([0.0; 2], 0.0);
             let mut rng = Sampler::new(300 + k, 0, 0);
             for _ in 0..N_CHI2 {
-                let u_select = rng.next_f32();
-                match s.sample_light(x, u_select, rng.next_2d(), spheres, selection) {
+                match s.sample_light(x, rng.next_2d(), spheres, selection) {
                     Some((ls, Some(0))) => match spheres {
                         SphereSampling::Cone => hs.add(cone.coords(d3(ls.wi))),
                         SphereSampling::Area => hs.add(cap.coords(sample_point(x, ls.wi, ls.distance))),
