@@ -42,6 +42,7 @@
 // `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod accel;
 pub mod camera;
 pub mod error;
 pub mod estimator;

@@ -21,6 +21,14 @@ fn pcg_hash(x: u32) -> u32 {
     (word >> 22) ^ word
 }
 
+/// A cheap 32-bit mixer (xor-shift-multiply; Wellons' "lowbias32" first round), for seeds
+/// derived from a hash.
+#[inline]
+fn mix(x: u32) -> u32 {
+    let x = (x ^ (x >> 16)).wrapping_mul(0x7feb_352d);
+    x ^ (x >> 15)
+}
+
 /// Owen scramble in the bit-reversed domain: bit k of the result is bit k of `v` flipped by a
 /// function of `seed` and the bits below k only (every step is an addition, a multiplication
 /// by an odd number, or `v ^= v * even`, each of which has that property). On the reversed digits
@@ -92,8 +100,8 @@ pub struct Sampler {
     kind: SamplerKind,
     /// PCG state (independent) or the pixel's hash (sobol).
     state: u32,
-    /// Sample index within the pixel (sobol).
-    index: u32,
+    /// Sample index within the pixel, bit-reversed (sobol).
+    index_reversed: u32,
     /// The next request's dimension (sobol).
     dim: u32,
 }
@@ -112,10 +120,11 @@ impl Sampler {
         match kind {
             SamplerKind::Independent => {
                 let state = pcg_hash(seed ^ pcg_hash(pixel ^ pcg_hash(sample)));
-                Self { kind, state, index: sample, dim: 0 }
+                Self { kind, state, index_reversed: 0, dim: 0 }
             }
             SamplerKind::Sobol => {
-                Self { kind, state: pcg_hash(seed ^ pcg_hash(pixel)), index: sample, dim: 0 }
+                let state = pcg_hash(seed ^ pcg_hash(pixel));
+                Self { kind, state, index_reversed: sample.reverse_bits(), dim: 0 }
             }
         }
     }
@@ -139,7 +148,7 @@ impl Sampler {
     fn sobol_request(&mut self) -> (u32, u32) {
         let hash = pcg_hash(self.state ^ self.dim.wrapping_mul(0x9e37_79b9));
         self.dim = self.dim.wrapping_add(1);
-        let index = owen_reversed(self.index.reverse_bits(), hash).reverse_bits();
+        let index = owen_reversed(self.index_reversed, hash).reverse_bits();
         (hash, index)
     }
 
@@ -151,7 +160,7 @@ impl Sampler {
             SamplerKind::Sobol => {
                 let (hash, index) = self.sobol_request();
                 // Sobol dimension 0 is the bit-reversed index: in the reversed domain, the index.
-                owen_reversed(index, pcg_hash(hash)).reverse_bits()
+                owen_reversed(index, mix(hash ^ 0x68e3_1da4)).reverse_bits()
             }
         }
     }
@@ -172,8 +181,7 @@ impl Sampler {
             }
             SamplerKind::Sobol => {
                 let (hash, index) = self.sobol_request();
-                let s0 = pcg_hash(hash);
-                let s1 = pcg_hash(s0);
+                let (s0, s1) = (mix(hash ^ 0x68e3_1da4), mix(hash ^ 0xb529_7a4d));
                 let x = owen_reversed(index, s0).reverse_bits();
                 let y = owen_reversed(sobol1_reversed(index), s1).reverse_bits();
                 Vec2::new(to_unit(x), to_unit(y))

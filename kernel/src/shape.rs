@@ -55,6 +55,13 @@ pub struct Quad {
     area: f32,
 }
 
+impl Quad {
+    /// Unit normal, plane offset `n . p0`, corner `p0`, and the dual axes.
+    pub(crate) fn parts(&self) -> (Vec3, f32, Vec3, Vec3, Vec3) {
+        (self.n, self.plane, self.p0, self.s_axis, self.t_axis)
+    }
+}
+
 /// The closed set of shapes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
