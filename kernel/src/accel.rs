@@ -179,11 +179,18 @@ impl Filter {
     }
 }
 
-/// The scene's shapes in packets of four (see the module docs). At most `S` packets of each kind.
+/// The scene's shapes in packets of four (see the module docs). At most `S` packets of each
+/// kind; none on microcontrollers (no room: the storage has capacity 0 there).
 #[derive(Clone, Debug)]
 pub struct Packets<const S: usize> {
+    #[cfg(not(target_os = "none"))]
     spheres: Vec<SpherePacket, S>,
+    #[cfg(not(target_os = "none"))]
     quads: Vec<QuadPacket, S>,
+    #[cfg(target_os = "none")]
+    spheres: Vec<SpherePacket, 0>,
+    #[cfg(target_os = "none")]
+    quads: Vec<QuadPacket, 0>,
     sphere_count: usize,
     quad_count: usize,
 }
