@@ -6,7 +6,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use picomis::sampling::*;
-use picomis::{Heuristic, Light, Material, Rgb, Sampler, Shape, SphereSampling, SurfacePoint, Vec3};
+use picomis::{Heuristic, Light, Material, Method, Rgb, Sampler, Shape, SphereSampling, SurfacePoint, Vec3};
 use picomis_bench::{INPUTS, Inputs, MEASUREMENT, SAMPLE_SIZE, WARM_UP, build, builtin_scenes};
 
 const MASK: usize = INPUTS - 1;
@@ -115,16 +115,16 @@ fn heuristics(c: &mut Criterion) {
     let t = Inputs::new();
     let mut g = c.benchmark_group("heuristic");
     g.throughput(Throughput::Elements(1));
-    let list = [
-        ("average", Heuristic::Average),
-        ("balance", Heuristic::Balance),
-        ("power_2", Heuristic::Power { beta: 2.0 }),
-        ("power_1.5", Heuristic::Power { beta: 1.5 }),
-        ("maximum", Heuristic::Maximum),
-        ("cutoff_0.1", Heuristic::Cutoff { alpha: 0.1 }),
-    ];
-    for (name, h) in list {
-        cycle(&mut g, name, |i| h.weights([t.u[i].x * 10.0, t.u[i].y]));
+    // The kernel's heuristics (default parameters) and one power heuristic with a fractional beta.
+    let mut list: Vec<Method> = Method::ALL.into_iter().filter(|m| matches!(m, Method::Mis(_))).collect();
+    list.push(Method::Mis(Heuristic::Power { beta: 1.5 }));
+    for m in list {
+        let Method::Mis(h) = m else { continue };
+        let name = match (m.beta(), m.alpha()) {
+            (Some(p), _) | (_, Some(p)) => format!("{m}_{p}"),
+            _ => m.to_string(),
+        };
+        cycle(&mut g, &name, |i| h.weights([t.u[i].x * 10.0, t.u[i].y]));
     }
     g.finish();
 }

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use picomis::{CameraDesc, Film, FovAxis, Material, Rgb, SceneError, Vec3};
 use serde::Deserialize;
 
-use crate::{Counts, Geometry, LoadError, SceneFile, Step, check_camera, parse_method};
+use crate::{Counts, Geometry, LoadError, SceneFile, Step, check_camera};
 
 const FORMAT: &str = "picomis-scene/1";
 
@@ -90,21 +90,15 @@ struct IntegratorDesc {
     #[serde(default)]
     hide_emitters: bool,
     mis: String,
-    #[serde(default = "default_beta")]
-    beta: f32,
-    #[serde(default = "default_alpha")]
-    alpha: f32,
+    /// The power heuristic's exponent (default: the kernel's).
+    #[serde(default)]
+    beta: Option<f32>,
+    /// The cutoff heuristic's threshold (default: the kernel's).
+    #[serde(default)]
+    alpha: Option<f32>,
     /// Sample stream (`SamplerKind::name`); the kernel's default when absent.
     #[serde(default)]
     sampler: Option<String>,
-}
-
-fn default_beta() -> f32 {
-    2.0
-}
-
-fn default_alpha() -> f32 {
-    0.1
 }
 
 #[derive(Deserialize)]
@@ -264,7 +258,10 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
     if ig.hide_emitters {
         return Err(fail("integrator.hide_emitters", "hiding emitters is not supported (use false)".into()));
     }
-    let method = parse_method(&ig.mis, ig.beta, ig.alpha).map_err(|r| fail("integrator.mis", r))?;
+    let method = picomis::Method::from_name(&ig.mis)
+        .map_err(|e| e.to_string())
+        .and_then(|m| m.with_parameters(ig.beta, ig.alpha).map_err(|e| e.to_string()))
+        .map_err(|r| fail("integrator.mis", r))?;
     picomis::RenderSettings::new(method, ig.emitter_samples, ig.bsdf_samples, 1, 0)
         .map_err(|e| kernel("integrator", e))?;
     let sampler = match ig.sampler.as_deref() {

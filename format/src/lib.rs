@@ -17,8 +17,8 @@ use std::fmt;
 use std::path::Path;
 
 use picomis::{
-    Camera, CameraDesc, Collection, Film, Heuristic, Material, Method, RenderSettings, Rgb, SamplerKind,
-    Scene, SceneError, Shape, Vec3,
+    Camera, CameraDesc, Collection, Film, Material, Method, RenderSettings, Rgb, SamplerKind, Scene,
+    SceneError, Shape, Vec3,
 };
 
 /// Why a scene file could not be loaded: which file, which entry, and why.
@@ -231,31 +231,6 @@ impl SceneFile {
         LoadError { file: self.file.clone(), entry, reason }
     }
 }
-
-/// Parses a method name: `bsdf`, `light`, `average`, `balance`, `power` (with `beta`),
-/// `maximum`, `cutoff` (with `alpha`).
-pub fn parse_method(name: &str, beta: f32, alpha: f32) -> Result<Method, String> {
-    let m = match name {
-        "bsdf" => Method::BsdfOnly,
-        "light" => Method::LightOnly,
-        "average" => Method::Mis(Heuristic::Average),
-        "balance" => Method::Mis(Heuristic::Balance),
-        "power" => Method::Mis(Heuristic::Power { beta }),
-        "maximum" => Method::Mis(Heuristic::Maximum),
-        "cutoff" => Method::Mis(Heuristic::Cutoff { alpha }),
-        other => {
-            return Err(format!(
-                "unknown method {other:?} (expected bsdf, light, average, balance, power, maximum or cutoff)"
-            ));
-        }
-    };
-    // Validate beta and alpha the way the kernel does.
-    RenderSettings::new(m, 1, 1, 1, 0).map_err(|e| e.to_string())?;
-    Ok(m)
-}
-
-/// The names [`parse_method`] accepts, in the seed's order.
-pub const METHOD_NAMES: [&str; 7] = ["bsdf", "light", "average", "balance", "power", "maximum", "cutoff"];
 
 /// Checks that a camera description is valid for a 1x1 film (used while lowering).
 pub(crate) fn check_camera(camera: CameraDesc, film: Film) -> Result<(), SceneError> {

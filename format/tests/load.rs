@@ -1,6 +1,6 @@
 //! Loading `picomis-scene/1` files: the Veach scene, and every class of bad input.
 
-use picomis_format::{Counts, LoadError, SceneFile, parse_method};
+use picomis_format::{Counts, LoadError, SceneFile};
 
 const VEACH: &str = include_str!("../../scenes/veach_mis.json");
 
@@ -149,13 +149,20 @@ fn point_lights_are_counted_and_validated() {
 }
 
 #[test]
-fn method_names() {
-    for name in picomis_format::METHOD_NAMES {
-        assert!(parse_method(name, 2.0, 0.1).is_ok(), "{name}");
+fn method_names_and_parameters_come_from_the_kernel() {
+    for m in picomis::Method::ALL {
+        let mut v = veach();
+        v["integrator"]["mis"] = m.name().into();
+        assert_eq!(load(&v).unwrap().default_method(), m, "{m}");
     }
-    assert!(parse_method("power", 0.0, 0.1).is_err());
-    assert!(parse_method("cutoff", 2.0, 2.0).is_err());
-    assert!(parse_method("nope", 2.0, 0.1).is_err());
+    let mut v = veach();
+    v["integrator"]["beta"] = 0.0.into();
+    rejects(&v, "integrator.mis", "power-heuristic beta is out of range");
+    v["integrator"]["beta"] = 3.0.into();
+    assert_eq!(load(&v).unwrap().default_method().beta(), Some(3.0));
+    v["integrator"]["mis"] = "cutoff".into();
+    v["integrator"]["alpha"] = 2.0.into();
+    rejects(&v, "integrator.mis", "cutoff alpha is out of range");
 }
 
 #[test]

@@ -2,9 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand, ValueEnum};
 use picomis::{Film, Heuristic, LightSelection, Method, RenderSettings, SamplerKind, SphereSampling};
-use picomis_format::parse_method;
 
 use crate::SimError;
 use crate::figure::render_figure;
@@ -63,15 +63,16 @@ pub struct RenderArgs {
     /// Camera samples per pixel.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..))]
     pub spp: u32,
-    /// Combination: bsdf, light, average, balance, power, maximum or cutoff (default: the
-    /// scene's integrator block).
-    #[arg(long, value_name = "M")]
-    pub mis: Option<String>,
-    /// Power-heuristic exponent (default: the scene's, else 2).
-    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    /// Combination method (default: the scene's integrator block).
+    #[arg(long, value_name = "M", value_parser = method_parser())]
+    pub mis: Option<Method>,
+    /// Power-heuristic exponent.
+    #[arg(long, value_name = "B", allow_negative_numbers = true,
+          help = format!("Power-heuristic exponent (default: the scene's, else {})", Heuristic::DEFAULT_BETA))]
     pub beta: Option<f32>,
-    /// Cutoff-heuristic threshold (default: the scene's, else 0.1).
-    #[arg(long, value_name = "A", allow_negative_numbers = true)]
+    /// Cutoff-heuristic threshold.
+    #[arg(long, value_name = "A", allow_negative_numbers = true,
+          help = format!("Cutoff-heuristic threshold (default: the scene's, else {})", Heuristic::DEFAULT_ALPHA))]
     pub alpha: Option<f32>,
     /// Light samples per camera sample (default: the scene's emitter_samples).
     #[arg(long, value_name = "N")]
@@ -87,7 +88,7 @@ pub struct RenderArgs {
     pub light_selection: LightSelectionArg,
     /// Sample stream: sobol (padded Owen-scrambled Sobol) or independent (default: the scene's
     /// integrator block, else sobol).
-    #[arg(long, value_name = "S", value_parser = parse_sampler)]
+    #[arg(long, value_name = "S", value_parser = sampler_parser())]
     pub sampler: Option<SamplerKind>,
     /// Seed: the same seed gives the same image, on any number of threads.
     #[arg(long, default_value_t = 0)]
@@ -157,32 +158,26 @@ fn default_out(name: &str, suffix: &str) -> PathBuf {
     PathBuf::from(format!("{stem}{suffix}"))
 }
 
-/// A sample stream by name ([`SamplerKind::name`]).
-pub fn parse_sampler(name: &str) -> Result<SamplerKind, String> {
-    SamplerKind::from_name(name).ok_or_else(|| {
-        let names: Vec<&str> = SamplerKind::ALL.iter().map(|k| k.name()).collect();
-        format!("unknown sampler {name:?} (expected {})", names.join(" or "))
-    })
+/// The `--mis` value parser: the kernel's method names (with their summaries in the help),
+/// parsed by the kernel.
+fn method_parser() -> impl TypedValueParser<Value = Method> {
+    let names = Method::ALL.map(|m| PossibleValue::new(m.name()).help(m.summary()));
+    PossibleValuesParser::new(names).try_map(|name| Method::from_name(&name).map_err(|e| e.to_string()))
 }
 
-/// The CLI name of a method.
-pub fn method_name(m: Method) -> &'static str {
-    match m {
-        Method::BsdfOnly => "bsdf",
-        Method::LightOnly => "light",
-        Method::Mis(Heuristic::Average) => "average",
-        Method::Mis(Heuristic::Balance) => "balance",
-        Method::Mis(Heuristic::Power { .. }) => "power",
-        Method::Mis(Heuristic::Maximum) => "maximum",
-        Method::Mis(Heuristic::Cutoff { .. }) => "cutoff",
-    }
+/// The `--sampler` value parser: the kernel's sample streams.
+fn sampler_parser() -> impl TypedValueParser<Value = SamplerKind> {
+    let names = SamplerKind::ALL.map(|k| PossibleValue::new(k.name()));
+    PossibleValuesParser::new(names)
+        .try_map(|name| SamplerKind::from_name(&name).ok_or_else(|| format!("unknown sampler {name:?}")))
 }
 
+/// The method with its parameter, as the render line shows it.
 fn describe(m: Method) -> String {
-    match m {
-        Method::Mis(Heuristic::Power { beta }) => format!("power (beta {beta})"),
-        Method::Mis(Heuristic::Cutoff { alpha }) => format!("cutoff (alpha {alpha})"),
-        other => method_name(other).to_string(),
+    match (m.beta(), m.alpha()) {
+        (Some(beta), _) => format!("{m} (beta {beta})"),
+        (_, Some(alpha)) => format!("{m} (alpha {alpha})"),
+        _ => m.to_string(),
     }
 }
 
@@ -190,12 +185,13 @@ fn describe(m: Method) -> String {
 pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, SimError> {
     let usage = SimError::Usage;
     let scene_method = loaded.file.default_method();
-    let (scene_beta, scene_alpha) = match scene_method {
-        Method::Mis(Heuristic::Power { beta }) => (beta, 0.1),
-        Method::Mis(Heuristic::Cutoff { alpha }) => (2.0, alpha),
-        _ => (2.0, 0.1),
+    // A method named on the command line comes with its defaults, unless it is the scene's own
+    // method: then it keeps the scene's parameters.
+    let method = match args.mis {
+        Some(m) if m.name() != scene_method.name() => m,
+        _ => scene_method,
     };
-    let name = args.mis.as_deref().unwrap_or(method_name(scene_method));
+    let name = method.name();
     let mut flags = format!("--mis {name}");
     if let Some(beta) = args.beta {
         flags += &format!(" --beta {beta}");
@@ -203,21 +199,14 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
     if let Some(alpha) = args.alpha {
         flags += &format!(" --alpha {alpha}");
     }
-    let method = parse_method(name, args.beta.unwrap_or(scene_beta), args.alpha.unwrap_or(scene_alpha))
-        .map_err(|e| usage(format!("{flags}: {e}")))?;
-    if let Some(beta) = args.beta {
-        if !matches!(method, Method::Mis(Heuristic::Power { .. })) {
-            return Err(usage(format!(
-                "--beta {beta}: only the power heuristic has a beta (method is {name})"
-            )));
-        }
+    let method = method.with_parameters(args.beta, args.alpha).map_err(|e| usage(format!("{flags}: {e}")))?;
+    if let (Some(beta), None) = (args.beta, method.beta()) {
+        return Err(usage(format!("--beta {beta}: only the power heuristic has a beta (method is {name})")));
     }
-    if let Some(alpha) = args.alpha {
-        if !matches!(method, Method::Mis(Heuristic::Cutoff { .. })) {
-            return Err(usage(format!(
-                "--alpha {alpha}: only the cutoff heuristic has an alpha (method is {name})"
-            )));
-        }
+    if let (Some(alpha), None) = (args.alpha, method.alpha()) {
+        return Err(usage(format!(
+            "--alpha {alpha}: only the cutoff heuristic has an alpha (method is {name})"
+        )));
     }
     let (scene_light, scene_bsdf) = loaded.file.default_samples();
     let n_light = args.light_samples.unwrap_or(scene_light);

@@ -1,17 +1,16 @@
-//! The seed lecture's MIS figure as one labelled PNG: each technique alone, the arithmetic
+//! The lecture's MIS figure as one labelled PNG: each technique alone, the arithmetic
 //! average, the balance, power and maximum heuristics, then the balance render's per-technique
 //! MIS weights (false colour with a legend) and weighted contributions.
 
 use embedded_graphics_core::pixelcolor::RgbColor;
-use picomis::{Estimate, RenderSettings, Rgb, tone_map};
-use picomis_format::parse_method;
+use picomis::{Estimate, Heuristic, Method, RenderSettings, Rgb, tone_map};
 
 use crate::SimError;
 use crate::render::{Batch, Estimates, RenderBatch};
 use crate::scenes::Loaded;
 use crate::text::{Canvas, draw_text, text_width};
 
-/// The renders of the figure: method name for `parse_method` and panel label.
+/// The renders of the figure: the kernel's method name (default parameters) and panel label.
 pub const METHODS: [(&str, &str); 6] = [
     ("bsdf", "(a) BSDF sampling alone"),
     ("light", "(b) light sampling alone"),
@@ -21,8 +20,21 @@ pub const METHODS: [(&str, &str); 6] = [
     ("maximum", "(f) maximum heuristic"),
 ];
 
-/// Index in [`METHODS`] of the render whose weights and contributions are shown.
-const BALANCE: usize = 3;
+/// The method whose weights and contributions are shown.
+const WEIGHTS_OF: Method = Method::Mis(Heuristic::Balance);
+
+/// Index in [`METHODS`] of [`WEIGHTS_OF`]'s render.
+fn weights_panel() -> usize {
+    METHODS.iter().position(|(name, _)| *name == WEIGHTS_OF.name()).unwrap_or(0)
+}
+
+/// The figure's methods, from the kernel's names.
+fn methods() -> Result<Vec<Method>, SimError> {
+    METHODS
+        .iter()
+        .map(|(name, _)| Method::from_name(name).map_err(|e| SimError::Usage(e.to_string())))
+        .collect()
+}
 
 const BACKGROUND: [u8; 3] = [255, 255, 255];
 const INK: [u8; 3] = [20, 20, 20];
@@ -82,10 +94,9 @@ fn upscale(src: &[[u8; 3]], w: u32, h: u32, k: u32) -> Vec<[u8; 3]> {
 /// The settings of the figure's renders for `loaded`'s scene: its sample counts, `spp`, `seed`.
 pub fn figure_settings(loaded: &Loaded, spp: u32, seed: u32) -> Result<Vec<RenderSettings>, SimError> {
     let (n_light, n_bsdf) = loaded.file.default_samples();
-    METHODS
-        .iter()
-        .map(|(name, _)| {
-            let method = parse_method(name, 2.0, 0.1).map_err(SimError::Usage)?;
+    methods()?
+        .into_iter()
+        .map(|method| {
             RenderSettings::new(method, n_light.max(1), n_bsdf.max(1), spp, seed)
                 .map_err(|e| SimError::Usage(format!("settings: {e}")))
         })
@@ -97,7 +108,7 @@ pub fn render_figure(loaded: &Loaded, spp: u32, seed: u32) -> Result<(Canvas, Ba
     let settings = figure_settings(loaded, spp, seed)?;
     let film = loaded.file.film();
     let batch = loaded.visit(film, RenderBatch { settings: &settings, message: "figure" })?;
-    let (n_light, n_bsdf) = settings[BALANCE].technique_samples();
+    let (n_light, n_bsdf) = settings[weights_panel()].technique_samples();
     let lights = loaded.file.counts().lights;
     let caption = [
         format!(
@@ -146,7 +157,7 @@ pub fn compose(images: &[Estimates], caption: &[String]) -> Canvas {
         let (row, col) = if i < 4 { (0, i as u32) } else { (1, i as u32 - 4) };
         put_panel(&mut canvas, row, col, label, panel(img, |e| srgb(e.radiance())));
     }
-    let balance = &images[BALANCE];
+    let balance = &images[weights_panel()];
     let weight =
         |t: &picomis::TechniqueEstimate| if t.found > 0 { weight_color(t.mean_weight()) } else { NO_LIGHT };
     put_panel(&mut canvas, 1, 2, "(g) weight of BSDF samples in (d)", panel(balance, |e| weight(&e.bsdf)));
@@ -218,6 +229,11 @@ fn legend(canvas: &mut Canvas, x0: u32, y0: u32, width: u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_weights_shown_are_balances() {
+        assert_eq!(methods().unwrap()[weights_panel()], WEIGHTS_OF);
+    }
 
     #[test]
     fn weight_colors_span_viridis() {

@@ -27,8 +27,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use indicatif::ProgressBar;
-use picomis::{Estimate, Film, Method, RenderSettings, Rgb, Scene, SphereSampling, render_pixel};
-use picomis_format::parse_method;
+use picomis::{Estimate, Film, Heuristic, Method, RenderSettings, Rgb, Scene, SphereSampling, render_pixel};
 use rayon::prelude::*;
 
 use crate::SimError;
@@ -85,7 +84,7 @@ pub struct StudyMethod {
 
 /// The methods of the study, in the seed's order. The heuristics sample sphere lights by cone.
 pub fn study_methods() -> Vec<StudyMethod> {
-    let m = |name: &str| parse_method(name, 2.0, 0.1).expect("built-in method names parse");
+    let m = |name: &str| Method::from_name(name).expect("the kernel's method names");
     let cone = SphereSampling::Cone;
     vec![
         StudyMethod { label: "bsdf", title: "BSDF sampling", method: m("bsdf"), spheres: cone },
@@ -109,8 +108,15 @@ pub fn study_methods() -> Vec<StudyMethod> {
     ]
 }
 
+/// Index in [`study_methods`] of `method` with sphere lights sampled by `spheres` (0 if absent).
+pub fn index_of(method: Method, spheres: SphereSampling) -> usize {
+    study_methods().iter().position(|m| m.method == method && m.spheres == spheres).unwrap_or(0)
+}
+
 /// Index of the balance heuristic in [`study_methods`] (the baseline of every ratio).
-pub const BALANCE: usize = 4;
+pub fn balance_index() -> usize {
+    index_of(Method::Mis(Heuristic::Balance), SphereSampling::Cone)
+}
 
 /// Seeds of the ladder renders are `LADDER_SEED + k`; the reference and the equal-time renders
 /// use other seeds, so no render shares random numbers with the reference.
@@ -354,7 +360,7 @@ impl SceneVisitor for SceneJob<'_> {
         };
 
         // Equal time: every method gets the time balance took at the top rung.
-        let budget = f64::from(top) * cost_per_spp(&records, BALANCE, top);
+        let budget = f64::from(top) * cost_per_spp(&records, balance_index(), top);
         let spps: Vec<u32> = (0..methods.len())
             .map(|mi| {
                 let cost = cost_per_spp(&records, mi, top);
@@ -426,7 +432,7 @@ mod tests {
         assert_eq!((f.width(), f.height()), (64, 48));
         let f = study_film(Film::new(64, 48).unwrap(), Some(0.5)).unwrap();
         assert_eq!((f.width(), f.height()), (32, 24));
-        assert_eq!(study_methods()[BALANCE].label, "balance");
+        assert_eq!(study_methods()[balance_index()].label, "balance");
     }
 
     fn args(out: &Path) -> StudyArgs {

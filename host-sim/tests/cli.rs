@@ -163,7 +163,7 @@ fn missing_file_and_unknown_scene() {
 fn bad_flag_values() {
     let dir = tempfile::tempdir().unwrap();
     let cases: &[(&[&str], &str)] = &[
-        (&["--mis", "foo"], "unknown method \"foo\""),
+        (&["--mis", "foo"], "invalid value 'foo' for '--mis"),
         (&["--mis", "power", "--beta", "0"], "power-heuristic beta is out of range"),
         (&["--beta", "-1"], "power-heuristic beta is out of range"),
         (&["--beta", "nan"], "power-heuristic beta is out of range"),
@@ -207,6 +207,18 @@ fn bad_flag_values() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("the figure is written as PNG"));
     assert!(files(dir.path()).is_empty());
+}
+
+#[test]
+fn the_help_lists_the_kernels_methods() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run_ok(dir.path(), &["render", "--help"]);
+    let help = String::from_utf8_lossy(&out.stdout);
+    for m in picomis::Method::ALL {
+        let line = help.lines().find(|l| l.trim_start().starts_with(&format!("- {}:", m.name())));
+        assert!(line.is_some_and(|l| l.trim_end().ends_with(m.summary())), "{m}: {help}");
+    }
+    assert!(help.contains("(default: the scene's, else 2)") && help.contains("else 0.1)"), "{help}");
 }
 
 #[test]

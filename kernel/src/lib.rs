@@ -64,7 +64,7 @@ pub use estimator::{Estimate, TechniqueEstimate, estimate_direct, trace};
 pub use light::{Light, LightSample, LightSelection, SphereSampling};
 pub use material::{BsdfSample, Material};
 pub use math::{Rgb, Vec2, Vec3};
-pub use mis::{Heuristic, Method, Technique};
+pub use mis::{Heuristic, Method, ParseMethodError, Technique, UnknownMethod};
 pub use render::{RenderStats, camera_sample, film_rect, render, render_pixel, render_tile, tiles, tone_map};
 pub use rng::{Sampler, SamplerKind};
 pub use scene::{Hit, LightId, MaterialId, Object, Scene, ShapeId};

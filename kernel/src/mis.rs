@@ -1,17 +1,24 @@
-//! Combination weights of multiple importance sampling (Veach and Guibas 1995).
+//! Combination weights of multiple importance sampling (Veach and Guibas 1995), and the one home
+//! of the methods: their names, defaults, validation and the list of all of them
+//! ([`Method::ALL`]); the command line, the scene format and the reports ask here.
 //!
 //! Every heuristic sees the techniques' `q_i = n_i p_i(x)` and returns weights that sum to one
 //! wherever some `q_i > 0` (W1) and are zero wherever `q_i = 0` (W2). Values are first scaled by
 //! the largest `q`, so 0/0, inf/inf and overflow of `q^beta` cannot happen.
 
+use core::fmt;
+use core::str::FromStr;
+
+use crate::error::{Field, SceneError};
+
 /// A weighting heuristic over any number of techniques.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Heuristic {
-    /// Arithmetic average: w_i = 1/n over the techniques that can produce x (the seed's "very
+    /// Arithmetic average: w_i = 1/n over the techniques that can produce x (the lecture's "very
     /// bad" combination: it keeps the faults of each technique).
     Average,
-    /// Balance heuristic: w_i = q_i / sum_k q_k (the seed's "very good" one).
+    /// Balance heuristic: w_i = q_i / sum_k q_k (the lecture's "very good" one).
     Balance,
     /// Power heuristic: w_i = q_i^beta / sum_k q_k^beta (beta = 1 is balance).
     Power {
@@ -28,6 +35,34 @@ pub enum Heuristic {
 }
 
 impl Heuristic {
+    /// The power heuristic's default exponent.
+    pub const DEFAULT_BETA: f32 = 2.0;
+    /// The cutoff heuristic's default threshold.
+    pub const DEFAULT_ALPHA: f32 = 0.1;
+
+    /// The power heuristic with exponent `beta` (finite and positive).
+    pub fn power(beta: f32) -> Result<Self, SceneError> {
+        Heuristic::Power { beta }.validated()
+    }
+
+    /// The cutoff heuristic with threshold `alpha` (in [0, 1]).
+    pub fn cutoff(alpha: f32) -> Result<Self, SceneError> {
+        Heuristic::Cutoff { alpha }.validated()
+    }
+
+    /// The heuristic if its parameter is valid: beta finite and positive, alpha in [0, 1].
+    pub fn validated(self) -> Result<Self, SceneError> {
+        match self {
+            Heuristic::Power { beta } if !(beta.is_finite() && beta > 0.0) => {
+                Err(SceneError::OutOfRange(Field::Beta))
+            }
+            Heuristic::Cutoff { alpha } if !(0.0..=1.0).contains(&alpha) => {
+                Err(SceneError::OutOfRange(Field::CutoffAlpha))
+            }
+            _ => Ok(self),
+        }
+    }
+
     /// The weights of all techniques for one sample point, given `q_i = n_i p_i(x)`.
     /// Negative or NaN entries count as zero; infinite entries dominate all finite ones.
     pub fn weights<const N: usize>(&self, q: [f32; N]) -> [f32; N] {
@@ -90,7 +125,8 @@ pub enum Technique {
     Bsdf,
 }
 
-/// How the light and BSDF techniques are used and combined.
+/// How the light and BSDF techniques are used and combined. `Display` writes the name,
+/// [`FromStr`](core::str::FromStr) reads it (with default parameters).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Method {
@@ -103,6 +139,81 @@ pub enum Method {
 }
 
 impl Method {
+    /// Every method, each heuristic with its default parameter, in the lecture's order: each
+    /// technique alone, then the combinations from worst to best known.
+    pub const ALL: [Method; 7] = [
+        Method::BsdfOnly,
+        Method::LightOnly,
+        Method::Mis(Heuristic::Average),
+        Method::Mis(Heuristic::Balance),
+        Method::Mis(Heuristic::Power { beta: Heuristic::DEFAULT_BETA }),
+        Method::Mis(Heuristic::Maximum),
+        Method::Mis(Heuristic::Cutoff { alpha: Heuristic::DEFAULT_ALPHA }),
+    ];
+
+    /// The method's name (command line, scene files, reports).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::BsdfOnly => "bsdf",
+            Method::LightOnly => "light",
+            Method::Mis(Heuristic::Average) => "average",
+            Method::Mis(Heuristic::Balance) => "balance",
+            Method::Mis(Heuristic::Power { .. }) => "power",
+            Method::Mis(Heuristic::Maximum) => "maximum",
+            Method::Mis(Heuristic::Cutoff { .. }) => "cutoff",
+        }
+    }
+
+    /// One line about the method (command-line help).
+    pub fn summary(&self) -> &'static str {
+        match self {
+            Method::BsdfOnly => "BSDF sampling alone",
+            Method::LightOnly => "light sampling alone",
+            Method::Mis(Heuristic::Average) => "arithmetic average of the two techniques",
+            Method::Mis(Heuristic::Balance) => "balance heuristic",
+            Method::Mis(Heuristic::Power { .. }) => "power heuristic (exponent beta)",
+            Method::Mis(Heuristic::Maximum) => "maximum heuristic",
+            Method::Mis(Heuristic::Cutoff { .. }) => "cutoff heuristic (threshold alpha)",
+        }
+    }
+
+    /// The method if its parameters are valid (see [`Heuristic::validated`]).
+    pub fn validated(self) -> Result<Self, SceneError> {
+        match self {
+            Method::Mis(h) => h.validated().map(Method::Mis),
+            single => Ok(single),
+        }
+    }
+
+    /// The power heuristic's exponent, if this is the power heuristic.
+    pub fn beta(&self) -> Option<f32> {
+        match *self {
+            Method::Mis(Heuristic::Power { beta }) => Some(beta),
+            _ => None,
+        }
+    }
+
+    /// The cutoff heuristic's threshold, if this is the cutoff heuristic.
+    pub fn alpha(&self) -> Option<f32> {
+        match *self {
+            Method::Mis(Heuristic::Cutoff { alpha }) => Some(alpha),
+            _ => None,
+        }
+    }
+
+    /// The same method with the power heuristic's exponent replaced by `beta` and the cutoff
+    /// heuristic's threshold by `alpha` where given (other methods have neither and are kept),
+    /// validated.
+    pub fn with_parameters(self, beta: Option<f32>, alpha: Option<f32>) -> Result<Self, SceneError> {
+        match (self, beta, alpha) {
+            (Method::Mis(Heuristic::Power { .. }), Some(beta), _) => Heuristic::power(beta).map(Method::Mis),
+            (Method::Mis(Heuristic::Cutoff { .. }), _, Some(alpha)) => {
+                Heuristic::cutoff(alpha).map(Method::Mis)
+            }
+            (m, ..) => m.validated(),
+        }
+    }
+
     /// Sample counts actually drawn for the requested `(n_light, n_bsdf)`.
     #[inline]
     pub fn sample_counts(&self, n_light: u16, n_bsdf: u16) -> (u16, u16) {
@@ -128,6 +239,61 @@ impl Method {
                 }
             }
         }
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A method name that [`Method::ALL`] does not have; the message lists every name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct UnknownMethod<'a>(pub &'a str);
+
+impl fmt::Display for UnknownMethod<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "unknown method {:?} (expected ", self.0)?;
+        let last = Method::ALL.len() - 1;
+        for (i, m) in Method::ALL.iter().enumerate() {
+            let sep = match i {
+                0 => "",
+                i if i == last => " or ",
+                _ => ", ",
+            };
+            write!(f, "{sep}{m}")?;
+        }
+        f.write_str(")")
+    }
+}
+
+impl core::error::Error for UnknownMethod<'_> {}
+
+impl Method {
+    /// The method called `name` (one of [`Method::ALL`]'s names), with default parameters.
+    pub fn from_name(name: &str) -> Result<Method, UnknownMethod<'_>> {
+        Method::ALL.into_iter().find(|m| m.name() == name).ok_or(UnknownMethod(name))
+    }
+}
+
+/// Why [`Method::from_str`](FromStr::from_str) failed: see [`Method::from_name`], whose error
+/// also names the input.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ParseMethodError;
+
+impl fmt::Display for ParseMethodError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        UnknownMethod("").fmt(f)
+    }
+}
+
+impl core::error::Error for ParseMethodError {}
+
+impl FromStr for Method {
+    type Err = ParseMethodError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Method::from_name(s).map_err(|_| ParseMethodError)
     }
 }
 
@@ -193,6 +359,35 @@ mod tests {
         assert_eq!(Heuristic::Maximum.weights([3.0, 3.0]), [1.0, 0.0]);
         assert_eq!(Heuristic::Cutoff { alpha: 0.5 }.weights([1.0, 3.0]), [0.0, 1.0]);
         assert_eq!(Heuristic::Power { beta: 1.0 }.weights([1.0, 3.0]), [0.25, 0.75]);
+    }
+
+    #[test]
+    fn names_parse_back_to_the_default_methods() {
+        for m in Method::ALL {
+            assert_eq!(m.name().parse::<Method>(), Ok(m));
+            assert_eq!(m.validated(), Ok(m));
+        }
+        assert_eq!("power".parse(), Ok(Method::Mis(Heuristic::Power { beta: 2.0 })));
+        assert_eq!("cutoff".parse(), Ok(Method::Mis(Heuristic::Cutoff { alpha: 0.1 })));
+        assert_eq!("nope".parse::<Method>(), Err(ParseMethodError));
+        assert_eq!(
+            format!("{}", UnknownMethod("x")),
+            "unknown method \"x\" (expected bsdf, light, average, balance, power, maximum or cutoff)"
+        );
+    }
+
+    #[test]
+    fn parameters_are_validated_once() {
+        assert_eq!(Heuristic::power(f32::NAN), Err(SceneError::OutOfRange(Field::Beta)));
+        assert_eq!(Heuristic::power(0.0), Err(SceneError::OutOfRange(Field::Beta)));
+        assert_eq!(Heuristic::cutoff(1.5), Err(SceneError::OutOfRange(Field::CutoffAlpha)));
+        assert_eq!(Heuristic::cutoff(1.0), Ok(Heuristic::Cutoff { alpha: 1.0 }));
+        let power = Method::Mis(Heuristic::Balance).with_parameters(Some(3.0), Some(0.5));
+        assert_eq!(power, Ok(Method::Mis(Heuristic::Balance)), "balance has no parameter");
+        let p = Method::from_name("power").unwrap().with_parameters(Some(3.0), None);
+        assert_eq!(p.map(|m| m.beta()), Ok(Some(3.0)));
+        let c = Method::from_name("cutoff").unwrap().with_parameters(None, Some(-1.0));
+        assert_eq!(c, Err(SceneError::OutOfRange(Field::CutoffAlpha)));
     }
 
     #[test]

@@ -2,7 +2,7 @@
 
 use crate::error::{Field, SceneError};
 use crate::light::{LightSelection, SphereSampling};
-use crate::mis::{Heuristic, Method};
+use crate::mis::Method;
 use crate::rng::SamplerKind;
 
 /// Validated settings for one render. A seed fully determines the image.
@@ -30,15 +30,7 @@ impl RenderSettings {
         spp: u32,
         seed: u32,
     ) -> Result<Self, SceneError> {
-        match method {
-            Method::Mis(Heuristic::Power { beta }) if !(beta.is_finite() && beta > 0.0) => {
-                return Err(SceneError::OutOfRange(Field::Beta));
-            }
-            Method::Mis(Heuristic::Cutoff { alpha }) if !(0.0..=1.0).contains(&alpha) => {
-                return Err(SceneError::OutOfRange(Field::CutoffAlpha));
-            }
-            _ => {}
-        }
+        let method = method.validated()?;
         if spp == 0 {
             return Err(SceneError::NonPositive(Field::SamplesPerPixel));
         }
@@ -123,6 +115,7 @@ impl RenderSettings {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mis::Heuristic;
 
     #[test]
     fn rejects_invalid_settings() {

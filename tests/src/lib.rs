@@ -23,15 +23,19 @@ use statrs::distribution::{ChiSquared, ContinuousCDF};
 use std::f64::consts::PI;
 use std::ops::{Add, Mul, Neg, Sub};
 
-/// One of each heuristic (power with beta 2 and 0.5), for tests that sweep them all.
-pub const HEURISTICS: [picomis::Heuristic; 6] = [
-    picomis::Heuristic::Average,
-    picomis::Heuristic::Balance,
-    picomis::Heuristic::Power { beta: 2.0 },
-    picomis::Heuristic::Power { beta: 0.5 },
-    picomis::Heuristic::Maximum,
-    picomis::Heuristic::Cutoff { alpha: 0.1 },
-];
+/// Every heuristic of the kernel's list ([`picomis::Method::ALL`], default parameters) and the
+/// power heuristic with beta 0.5, for tests that sweep them all.
+pub fn heuristics() -> Vec<picomis::Heuristic> {
+    let mut all: Vec<picomis::Heuristic> = picomis::Method::ALL
+        .iter()
+        .filter_map(|m| match m {
+            picomis::Method::Mis(h) => Some(*h),
+            _ => None,
+        })
+        .collect();
+    all.push(picomis::Heuristic::Power { beta: 0.5 });
+    all
+}
 
 // ---------------------------------------------------------------------------------------------
 // f64 vectors (the kernel's glam is built without f64 types, and stays so)

@@ -334,13 +334,13 @@ fn render_pixel_outputs_are_finite() {
 // ---------------------------------------------------------------------------------------------
 // 2. Pdfs and weights at random surface points
 
-use picomis_tests::HEURISTICS;
+use picomis_tests::heuristics;
 
 /// Every heuristic's weights on `q`: in [0, 1], 0 where q is 0 (W2), summing to 1 where some
 /// q > 0 (W1); and the weighted contribution w[technique] `unweighted` of the sample (as the
 /// estimator computes it) is finite and non-negative.
 fn check_weights(q: [f32; 2], technique: usize, unweighted: Rgb, what: &str) -> TestCaseResult {
-    for h in HEURISTICS {
+    for h in heuristics() {
         let w = h.weights(q);
         let c = unweighted * w[technique];
         prop_assert!(finite_non_negative(c), "{what}: {h:?} {q:?} -> {w:?}, contribution {c}");

@@ -29,8 +29,8 @@
 //! suite). docs/stability.md holds one such table with a lesson per case.
 
 use picomis::{
-    Film, Heuristic, Hit, LightSelection, Material, MaterialId, Method, Ray, RenderSettings, Rgb, Scene,
-    Shape, SphereSampling, Technique, Vec3,
+    Film, Hit, LightSelection, Material, MaterialId, Method, Ray, RenderSettings, Rgb, Scene, Shape,
+    SphereSampling, Technique, Vec3,
 };
 use picomis_tests::{
     DVec3, DirectStats, Stats, camera, check_unbiased, check_z, d3, direct_stats, floor_corners,
@@ -98,17 +98,18 @@ impl Col {
     }
 
     fn settings(self, selection: LightSelection) -> RenderSettings {
-        let (method, spheres) = match self {
-            Col::Bsdf => (Method::BsdfOnly, SphereSampling::Cone),
-            Col::LightArea => (Method::LightOnly, SphereSampling::Area),
-            Col::LightCone => (Method::LightOnly, SphereSampling::Cone),
-            Col::Average => (Method::Mis(Heuristic::Average), SphereSampling::Cone),
-            Col::Balance => (Method::Mis(Heuristic::Balance), SphereSampling::Cone),
-            Col::Power => (Method::Mis(Heuristic::Power { beta: 2.0 }), SphereSampling::Cone),
-            Col::Maximum => (Method::Mis(Heuristic::Maximum), SphereSampling::Cone),
-            Col::Cutoff => (Method::Mis(Heuristic::Cutoff { alpha: 0.1 }), SphereSampling::Cone),
+        // The kernel's methods by name, with their default parameters.
+        let (name, spheres) = match self {
+            Col::Bsdf => ("bsdf", SphereSampling::Cone),
+            Col::LightArea => ("light", SphereSampling::Area),
+            Col::LightCone => ("light", SphereSampling::Cone),
+            Col::Average => ("average", SphereSampling::Cone),
+            Col::Balance => ("balance", SphereSampling::Cone),
+            Col::Power => ("power", SphereSampling::Cone),
+            Col::Maximum => ("maximum", SphereSampling::Cone),
+            Col::Cutoff => ("cutoff", SphereSampling::Cone),
         };
-        RenderSettings::new(method, 1, 1, 1, SEED)
+        RenderSettings::new(Method::from_name(name).unwrap(), 1, 1, 1, SEED)
             .unwrap()
             .with_sphere_sampling(spheres)
             .with_light_selection(selection)

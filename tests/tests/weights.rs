@@ -222,9 +222,9 @@ proptest! {
 /// Hand-picked corner cases (also run by the properties, but named here).
 #[test]
 fn corner_cases() {
-    let all = picomis_tests::HEURISTICS;
+    let all = picomis_tests::heuristics();
     let inf = f32::INFINITY;
-    for h in all {
+    for &h in &all {
         for q in [
             [0.0, 0.0, 0.0],
             [inf, inf, inf],
@@ -241,7 +241,7 @@ fn corner_cases() {
         check_weights(h, [0.0, f32::MIN_POSITIVE]).unwrap();
     }
     // Infinite q dominate: [inf, 1] -> [1, 0] for every heuristic.
-    for h in all {
+    for &h in &all {
         assert_eq!(h.weights([inf, 1.0]), [1.0, 0.0], "{h:?}");
     }
 }

@@ -8,10 +8,10 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use embedded_graphics_core::pixelcolor::RgbColor;
-use picomis::tone_map;
+use picomis::{Method, SphereSampling, tone_map};
 
 use super::chart::{self, COLORS, Chart, Point, Series};
-use super::{BALANCE, Record, SceneStudy, StudyArgs, grid, mean, study_methods};
+use super::{Record, SceneStudy, StudyArgs, balance_index, grid, index_of, mean, study_methods};
 use crate::SimError;
 use crate::figure::weight_color;
 use crate::output::{encode_png, write_atomic};
@@ -51,7 +51,7 @@ pub fn write_scene(out: &Path, study: &SceneStudy, include_emitted: bool) -> Res
     let what = measured_on(include_emitted);
     let rungs = rungs(&study.records);
     let top = rungs.last().copied().unwrap_or(1);
-    let seeds = study.records.iter().filter(|r| r.method == BALANCE && r.spp == top).count();
+    let seeds = study.records.iter().filter(|r| r.method == balance_index() && r.spp == top).count();
     let time_desc = "seconds per image (all cores; fastest of the seeds)";
     for (kind, x_desc) in [("time", time_desc), ("spp", "samples per pixel")] {
         let series = methods
@@ -235,7 +235,7 @@ pub fn write_summary(
     );
     for s in studies {
         let eff = efficiencies(s);
-        let b = eff[BALANCE];
+        let b = eff[balance_index()];
         let top = rungs(&s.records).last().copied().unwrap_or(1);
         let _ = writeln!(
             md,
@@ -319,10 +319,12 @@ fn region_table(study: &SceneStudy) -> String {
     let methods = study_methods();
     let top = rungs(&study.records).last().copied().unwrap_or(1);
     let rs = &study.region_study;
-    let seeds = rs.records.iter().filter(|r| r.method == BALANCE && r.region == 0).count();
+    let seeds = rs.records.iter().filter(|r| r.method == balance_index() && r.region == 0).count();
     let region = |mi: usize, k: usize| region_error(study, mi, k);
     let cost: Vec<f64> = (0..methods.len()).map(|mi| super::cost_per_spp(&study.records, mi, top)).collect();
-    let (bsdf, light, balance) = (0, 2, BALANCE);
+    let bsdf = index_of(Method::BsdfOnly, SphereSampling::Cone);
+    let light = index_of(Method::LightOnly, SphereSampling::Cone);
+    let balance = balance_index();
     let mut md = format!(
         "# {}: error per plate x light region\n\n\
          Each glossy plate is cut into one region per light: a pixel whose camera ray hits a plate belongs to the \
