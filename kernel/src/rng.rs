@@ -29,6 +29,11 @@ fn mix(x: u32) -> u32 {
     x ^ (x >> 15)
 }
 
+/// Odd multipliers that turn a request's hash into the scramble seeds of its two coordinates
+/// (bijections of the hash, distinct from it and from each other).
+const SEED_0: u32 = 0x2c1b_3c6d;
+const SEED_1: u32 = 0x297a_2d39;
+
 /// Owen scramble in the bit-reversed domain: bit k of the result is bit k of `v` flipped by a
 /// function of `seed` and the bits below k only (every step is an addition, a multiplication
 /// by an odd number, or `v ^= v * even`, each of which has that property). On the reversed digits
@@ -100,7 +105,9 @@ pub struct Sampler {
     kind: SamplerKind,
     /// PCG state (independent) or the pixel's hash (sobol).
     state: u32,
-    /// Sample index within the pixel, bit-reversed (sobol).
+    /// Sample index within the pixel (sobol).
+    index: u32,
+    /// The same, bit-reversed (sobol).
     index_reversed: u32,
     /// The next request's dimension (sobol).
     dim: u32,
@@ -120,11 +127,11 @@ impl Sampler {
         match kind {
             SamplerKind::Independent => {
                 let state = pcg_hash(seed ^ pcg_hash(pixel ^ pcg_hash(sample)));
-                Self { kind, state, index_reversed: 0, dim: 0 }
+                Self { kind, state, index: sample, index_reversed: 0, dim: 0 }
             }
             SamplerKind::Sobol => {
                 let state = pcg_hash(seed ^ pcg_hash(pixel));
-                Self { kind, state, index_reversed: sample.reverse_bits(), dim: 0 }
+                Self { kind, state, index: sample, index_reversed: sample.reverse_bits(), dim: 0 }
             }
         }
     }
@@ -142,13 +149,18 @@ impl Sampler {
         (word >> 22) ^ word
     }
 
-    /// The next Sobol request: its hash and the shuffled sample index (bit-reversed: an Owen
-    /// scramble of the index's reversed digits is a nested uniform shuffle of the index).
+    /// The next Sobol request: its hash and its sample index. The first request (the pixel
+    /// position) takes the index itself; every later one a shuffled index, an Owen scramble of the
+    /// index's reversed digits (a nested uniform shuffle: the first 2^m samples get one aligned
+    /// block of 2^m indices), so the pairing of points across requests is random.
     #[inline]
     fn sobol_request(&mut self) -> (u32, u32) {
-        let hash = pcg_hash(self.state ^ self.dim.wrapping_mul(0x9e37_79b9));
+        // A Weyl sequence of request seeds, mixed.
+        self.state = self.state.wrapping_add(0x9e37_79b9);
+        let hash = mix(self.state);
+        let first = self.dim == 0;
         self.dim = self.dim.wrapping_add(1);
-        let index = owen_reversed(self.index_reversed, hash).reverse_bits();
+        let index = if first { self.index } else { owen_reversed(self.index_reversed, hash).reverse_bits() };
         (hash, index)
     }
 
@@ -160,7 +172,7 @@ impl Sampler {
             SamplerKind::Sobol => {
                 let (hash, index) = self.sobol_request();
                 // Sobol dimension 0 is the bit-reversed index: in the reversed domain, the index.
-                owen_reversed(index, mix(hash ^ 0x68e3_1da4)).reverse_bits()
+                owen_reversed(index, hash.wrapping_mul(SEED_0)).reverse_bits()
             }
         }
     }
@@ -181,7 +193,7 @@ impl Sampler {
             }
             SamplerKind::Sobol => {
                 let (hash, index) = self.sobol_request();
-                let (s0, s1) = (mix(hash ^ 0x68e3_1da4), mix(hash ^ 0xb529_7a4d));
+                let (s0, s1) = (hash.wrapping_mul(SEED_0), hash.wrapping_mul(SEED_1));
                 let x = owen_reversed(index, s0).reverse_bits();
                 let y = owen_reversed(sobol1_reversed(index), s1).reverse_bits();
                 Vec2::new(to_unit(x), to_unit(y))
