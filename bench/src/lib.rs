@@ -32,6 +32,8 @@ pub fn settings(m: &StudyMethod) -> RenderSettings {
     RenderSettings::new(m.method, 1, 1, 1, 0)
         .expect("study methods have valid settings")
         .with_sphere_sampling(m.spheres)
+        .with_sampler(m.sampler)
+        .with_light_selection(m.selection)
 }
 
 /// The workspace's `scenes/` folder.

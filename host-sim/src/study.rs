@@ -1,7 +1,8 @@
 //! `picomis-sim study`: speed against accuracy (MIS-NOTES section 6).
 //!
 //! For each scene and each method (BSDF sampling alone; light sampling alone with sphere lights
-//! sampled by area and by cone; the average, balance, power, maximum and cutoff heuristics), the
+//! sampled by area and by cone; the average, balance, power, maximum and cutoff heuristics; all
+//! with the default sample stream, and the power heuristic again with independent numbers), the
 //! study renders a ladder of samples per pixel (1, 2, 4, ... up to `--max-spp`) with several
 //! seeds, times each render on all cores, and measures its error against a converged reference
 //! (balance heuristic, cone sampling, many samples; cached as EXR under `DIR/cache`). It writes
@@ -27,7 +28,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use indicatif::ProgressBar;
-use picomis::{Estimate, Film, Heuristic, Method, RenderSettings, Rgb, Scene, SphereSampling, render_pixel};
+use picomis::{
+    Estimate, Film, Heuristic, LightSelection, Method, RenderSettings, Rgb, SamplerKind, Scene, SphereSampling,
+    render_pixel,
+};
 use rayon::prelude::*;
 
 use crate::SimError;
@@ -80,37 +84,56 @@ pub struct StudyMethod {
     pub method: Method,
     /// How sphere lights are sampled.
     pub spheres: SphereSampling,
+    /// The sample stream.
+    pub sampler: SamplerKind,
+    /// How a light is chosen among several.
+    pub selection: LightSelection,
 }
 
-/// The methods of the study, in the seed's order. The heuristics sample sphere lights by cone.
+/// The methods of the study, in the seed's order, with the default sample stream (sobol) and
+/// uniform light selection; then the power heuristic with independent random numbers (what the
+/// stratified stream gains). The heuristics sample sphere lights by cone. (Every method keeps
+/// uniform selection: the Veach region study renders each light alone, which leaves the
+/// selection probabilities unchanged only under uniform selection.)
 pub fn study_methods() -> Vec<StudyMethod> {
     let m = |name: &str| Method::from_name(name).expect("the kernel's method names");
-    let cone = SphereSampling::Cone;
+    let (cone, area) = (SphereSampling::Cone, SphereSampling::Area);
+    let study = |label, title, method, spheres| StudyMethod {
+        label,
+        title,
+        method,
+        spheres,
+        sampler: SamplerKind::default(),
+        selection: LightSelection::Uniform,
+    };
     vec![
-        StudyMethod { label: "bsdf", title: "BSDF sampling", method: m("bsdf"), spheres: cone },
+        study("bsdf", "BSDF sampling", m("bsdf"), cone),
+        study("light_area", "light sampling (area)", m("light"), area),
+        study("light_cone", "light sampling (cone)", m("light"), cone),
+        study("average", "average", m("average"), cone),
+        study("balance", "balance", m("balance"), cone),
+        study("power", "power (\u{3b2} = 2)", m("power"), cone),
+        study("maximum", "maximum", m("maximum"), cone),
+        study("cutoff", "cutoff (\u{3b1} = 0.1)", m("cutoff"), cone),
         StudyMethod {
-            label: "light_area",
-            title: "light sampling (area)",
-            method: m("light"),
-            spheres: SphereSampling::Area,
+            sampler: SamplerKind::Independent,
+            ..study("power_independent", "power, independent numbers", m("power"), cone)
         },
-        StudyMethod {
-            label: "light_cone",
-            title: "light sampling (cone)",
-            method: m("light"),
-            spheres: cone,
-        },
-        StudyMethod { label: "average", title: "average", method: m("average"), spheres: cone },
-        StudyMethod { label: "balance", title: "balance", method: m("balance"), spheres: cone },
-        StudyMethod { label: "power", title: "power (\u{3b2} = 2)", method: m("power"), spheres: cone },
-        StudyMethod { label: "maximum", title: "maximum", method: m("maximum"), spheres: cone },
-        StudyMethod { label: "cutoff", title: "cutoff (\u{3b1} = 0.1)", method: m("cutoff"), spheres: cone },
     ]
 }
 
-/// Index in [`study_methods`] of `method` with sphere lights sampled by `spheres` (0 if absent).
+/// Index in [`study_methods`] of `method` with sphere lights sampled by `spheres`, the default
+/// sample stream and uniform light selection (0 if absent).
 pub fn index_of(method: Method, spheres: SphereSampling) -> usize {
-    study_methods().iter().position(|m| m.method == method && m.spheres == spheres).unwrap_or(0)
+    study_methods()
+        .iter()
+        .position(|m| {
+            m.method == method
+                && m.spheres == spheres
+                && m.sampler == SamplerKind::default()
+                && m.selection == LightSelection::Uniform
+        })
+        .unwrap_or(0)
 }
 
 /// Index of the balance heuristic in [`study_methods`] (the baseline of every ratio).
@@ -274,7 +297,7 @@ fn measured(e: &Estimate, include_emitted: bool) -> Rgb {
 /// The render settings of method `m` with `n` = (light, BSDF) samples per camera sample.
 pub fn settings(m: &StudyMethod, n: (u16, u16), spp: u32, seed: u32) -> Result<RenderSettings, SimError> {
     RenderSettings::new(m.method, n.0.max(1), n.1.max(1), spp, seed)
-        .map(|s| s.with_sphere_sampling(m.spheres))
+        .map(|s| s.with_sphere_sampling(m.spheres).with_sampler(m.sampler).with_light_selection(m.selection))
         .map_err(|e| SimError::Usage(format!("{}: {e}", m.label)))
 }
 
