@@ -29,8 +29,8 @@ use std::time::Instant;
 
 use indicatif::ProgressBar;
 use picomis::{
-    Estimate, Film, Heuristic, LightSelection, Method, RenderSettings, Rgb, SamplerKind, Scene, SphereSampling,
-    render_pixel,
+    Estimate, Film, Heuristic, LightSelection, Method, RenderSettings, Rgb, SamplerKind, Scene,
+    SphereSampling, render_pixel,
 };
 use rayon::prelude::*;
 

@@ -35,17 +35,16 @@ const SEED_0: u32 = 0x2c1b_3c6d;
 const SEED_1: u32 = 0x297a_2d39;
 
 /// Owen scramble in the bit-reversed domain: bit k of the result is bit k of `v` flipped by a
-/// function of `seed` and the bits below k only (every step is an addition, a multiplication
-/// by an odd number, or `v ^= v * even`, each of which has that property). On the reversed digits
-/// of a number in [0, 1) this permutes every elementary interval's children, as Owen's nested
-/// scrambling does. pbrt-v4's `FastOwenScrambler` without its two bit reversals.
+/// function of `seed` and the bits below k only (every step is an addition or `v ^= v * even`,
+/// each of which has that property, and is a bijection). On the reversed digits of a number in
+/// [0, 1) this permutes every elementary interval's children, as Owen's nested scrambling does.
+/// The first rounds of the Laine-Karras hash (Burley 2020), kept short for the Cortex-M: the seed
+/// enters by addition, so every point is uniformly distributed whatever the mixing after it.
 #[inline]
 fn owen_reversed(mut v: u32, seed: u32) -> u32 {
-    v ^= v.wrapping_mul(0x3d20_adea);
     v = v.wrapping_add(seed);
-    v = v.wrapping_mul((seed >> 16) | 1);
-    v ^= v.wrapping_mul(0x0552_6c56);
-    v ^= v.wrapping_mul(0x53a2_2864);
+    v ^= v.wrapping_mul(0x6c50_b47c);
+    v ^= v.wrapping_mul(0xb82f_1e52);
     v
 }
 
