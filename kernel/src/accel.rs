@@ -1,7 +1,7 @@
 //! Ray queries over all of a scene's shapes, four shapes at a time: a structure-of-arrays copy of
 //! the shapes in packets of four lanes, whose loops the compiler turns into SIMD instructions.
 //!
-//! The results are bit for bit those of testing each shape in turn with [`Shape::intersect`]:
+//! The results are bit for bit those of testing each shape in turn with [`crate::shape::Shape::intersect`]:
 //! - a quad's lane runs the same IEEE operations in the same order as `Shape::intersect`
 //!   (add, multiply and divide are exact per lane), so its distance is the same number;
 //! - a sphere's lane only decides whether the ray can meet the sphere at all (the discriminant,
@@ -12,8 +12,6 @@
 //!
 //! Only hosted targets get the packets ([`ENABLED`]); on a microcontroller (no vector unit, and
 //! RAM for one copy of the shapes only) the scene runs the plain loop, with the same bits.
-
-use crate::shape::{Ray, Shape};
 
 /// Whether scenes keep packets and run ray queries through them on this target.
 pub const ENABLED: bool = cfg!(not(target_os = "none"));
@@ -32,6 +30,7 @@ pub enum Filter {
 }
 
 impl Filter {
+    #[cfg_attr(target_os = "none", allow(dead_code))]
     #[inline]
     fn admits(self, object: u16, emitter: bool) -> bool {
         let i = usize::from(object);
@@ -337,7 +336,9 @@ mod packets {
 
     /// No packets.
     #[derive(Clone, Debug, Default)]
-    pub struct Packets<const S: usize>;
+    pub struct Packets<const S: usize> {
+        _none: (),
+    }
 
     impl<const S: usize> Packets<S> {
         /// Nothing to store.
@@ -376,6 +377,7 @@ mod tests {
     use super::*;
     use crate::math::Vec3;
     use crate::rng::Sampler;
+    use crate::shape::{Ray, Shape};
 
     /// The plain loop the packets must reproduce: nearest hit, front to back.
     fn nearest_loop(

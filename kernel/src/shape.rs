@@ -57,6 +57,7 @@ pub struct Quad {
 
 impl Quad {
     /// Unit normal, plane offset `n . p0`, corner `p0`, and the dual axes.
+    #[cfg_attr(target_os = "none", allow(dead_code))]
     pub(crate) fn parts(&self) -> (Vec3, f32, Vec3, Vec3, Vec3) {
         (self.n, self.plane, self.p0, self.s_axis, self.t_axis)
     }
