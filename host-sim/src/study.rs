@@ -488,8 +488,8 @@ mod tests {
             assert!(dir.path().join(f).is_file(), "{f} missing");
         }
         let csv = std::fs::read_to_string(dir.path().join("results.csv")).unwrap();
-        // Header, then 8 methods x 2 rungs x 2 seeds.
-        assert_eq!(csv.lines().count(), 1 + 8 * 2 * 2);
+        // Header, then every method x 2 rungs x 2 seeds.
+        assert_eq!(csv.lines().count(), 1 + study_methods().len() * 2 * 2);
         assert!(csv.lines().nth(1).unwrap().starts_with("lambert_sphere,bsdf,1,1,16,12,"));
         let cache: Vec<_> = std::fs::read_dir(dir.path().join("cache")).unwrap().collect();
         assert_eq!(cache.len(), 3, "reflected, full and info");
