@@ -6,7 +6,10 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use picomis::sampling::*;
-use picomis::{Heuristic, Light, Material, Method, Rgb, Sampler, Shape, SphereSampling, SurfacePoint, Vec3};
+use picomis::{
+    Heuristic, Light, LightSampler, LightSelection, Material, Method, Rgb, Sampler, ShadingPoint, Shape,
+    ShapeId, SphereSampling, SurfacePoint, Vec3,
+};
 use picomis_bench::{INPUTS, Inputs, MEASUREMENT, SAMPLE_SIZE, WARM_UP, build, builtin_scenes};
 
 const MASK: usize = INPUTS - 1;
@@ -42,16 +45,14 @@ fn routines(c: &mut Criterion) {
     cycle(&mut g, "sample_ggx_vndf", |i| sample_ggx_vndf(t.wo[i], 0.05, t.u[i]));
     cycle(&mut g, "ggx_vndf_pdf", |i| ggx_vndf_pdf(t.wo[i], t.wi[i], 0.05));
     let weights: Vec<f32> = (0..16).map(|k| 1.0 + k as f32).collect();
-    let total: f32 = weights.iter().sum();
-    cycle(&mut g, "sample_discrete_16", |i| sample_discrete(&weights, total, t.u1[i]));
-    cycle(&mut g, "discrete_pdf_16", |i| discrete_pdf(&weights, total, i & 15));
-    for kind in picomis::SamplerKind::ALL {
-        let mut sampler = Sampler::with_kind(kind, 1, 2, 3);
-        cycle(&mut g, &format!("sampler_new_next_2d_{}", kind.name()), |i| {
-            sampler = Sampler::with_kind(kind, 7, i as u32, 0);
-            sampler.next_2d()
-        });
-    }
+    let discrete = GridDistribution::<16>::new(&weights);
+    cycle(&mut g, "grid_distribution_sample_16", |i| discrete.sample(t.u1[i]));
+    cycle(&mut g, "grid_distribution_pmf_16", |i| discrete.pmf(i & 15));
+    let mut sampler = Sampler::new(1, 2, 3);
+    cycle(&mut g, "sampler_new_next_2d", |i| {
+        sampler = Sampler::new(7, i as u32, 0);
+        sampler.next_2d()
+    });
     g.finish();
 }
 
@@ -86,7 +87,7 @@ fn lights(c: &mut Criterion) {
         Vec3::new(0.5, 2.0, -0.5),
     ])
     .unwrap();
-    let area = Light::Area { shape: 0, radiance: Rgb::splat(10.0) };
+    let area = Light::Area { shape: ShapeId::new(0), radiance: Rgb::splat(10.0) };
     let point = Light::Point { position: Vec3::new(0.0, 2.0, 0.0), intensity: Rgb::splat(10.0) };
     let cases = [
         ("sphere_area", area, Some(sphere), SphereSampling::Area),
@@ -145,16 +146,22 @@ fn scene_queries(c: &mut Criterion) {
         .map(|h| {
             let p = h.map_or(Vec3::new(0.0, -4.0, 0.0), |h| h.point.p);
             let d = target - p;
-            (picomis::Ray { origin: p, dir: d.normalize() }, d.length(), h.map_or(0, |h| h.object))
+            (
+                picomis::Ray { origin: p, dir: d.normalize() },
+                d.length(),
+                h.map_or(ShapeId::new(0), |h| h.object),
+            )
         })
         .collect();
     cycle(&mut g, "unoccluded_shadow_ray", |i| {
         let (ray, dist, a) = &shadow[i];
-        scene.unoccluded(ray, *dist, *a, Some(7))
+        scene.unoccluded(ray, *dist, *a, Some(ShapeId::new(7)))
     });
+    let lights = LightSampler::new(&scene, LightSelection::Uniform, SphereSampling::Cone);
     cycle(&mut g, "sample_light_cone", |i| {
-        let p = shadow[i].0.origin;
-        scene.sample_light(p, t.u[i], SphereSampling::Cone, picomis::LightSelection::Uniform)
+        let at = ShadingPoint { p: shadow[i].0.origin, n: Vec3::Y, wo: Vec3::Y };
+        let chosen = lights.select(&at, t.u1[i])?;
+        lights.sample(chosen.light, at.p, t.u[i]).map(|s| s.pdf * chosen.probability)
     });
     g.finish();
 }

@@ -6,7 +6,6 @@
 //! `cargo bench -p picomis-bench --bench camera_sample -- veach_mis`.
 #![deny(missing_docs)]
 
-use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use picomis::{
@@ -36,41 +35,29 @@ pub fn settings(m: &StudyMethod) -> RenderSettings {
         .with_light_selection(m.selection)
 }
 
-/// The workspace's `scenes/` folder.
-pub fn scenes_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes")
-}
-
-/// Every built-in scene file, sorted by name.
+/// Every built-in scene file, sorted by name (the list of `picomis-builtins`).
 pub fn builtin_scenes() -> Vec<SceneFile> {
-    let dir = scenes_dir();
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()))
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    paths.sort();
-    paths.iter().map(|p| SceneFile::load(p).unwrap_or_else(|e| panic!("{e}"))).collect()
+    picomis_builtins::BUILTINS
+        .iter()
+        .map(|b| SceneFile::parse(b.json, b.name).unwrap_or_else(|e| panic!("{e}")))
+        .collect()
 }
 
-/// Capacities used for a scene file whose counts match none of [`for_scene!`]'s list.
+/// Capacities used for a scene file that is not built in.
 pub const GENEROUS: (usize, usize, usize) = (32, 16, 16);
 
-/// Calls `$f::<S, L, M>($file, $($arg),*)` with the exact capacities of the built-in scenes
-/// (their own counts, as a firmware build uses), or [`GENEROUS`] ones for any other counts.
+/// Calls `$f::<S, L, M>($file, $($arg),*)` with the exact capacities of a built-in scene (its own
+/// counts, as a firmware build uses, from `picomis-builtins`), or [`GENEROUS`] ones for any
+/// other file.
 #[macro_export]
 macro_rules! for_scene {
     ($file:expr, $f:ident $(, $arg:expr)*) => {{
         let file: &picomis_format::SceneFile = $file;
-        let c = file.counts();
-        match (c.shapes, c.lights, c.materials) {
-            (11, 5, 6) => $f::<11, 5, 6>(file $(, $arg)*),
-            (7, 1, 4) => $f::<7, 1, 4>(file $(, $arg)*),
-            (2, 1, 2) => $f::<2, 1, 2>(file $(, $arg)*),
-            (5, 3, 4) => $f::<5, 3, 4>(file $(, $arg)*),
-            (4, 2, 3) => $f::<4, 2, 3>(file $(, $arg)*),
-            _ => $f::<32, 16, 16>(file $(, $arg)*),
-        }
+        picomis_builtins::with_builtin_capacities!(
+            file.name(),
+            <S, L, M> => $f::<S, L, M>(file $(, $arg)*),
+            _ => $f::<{ $crate::GENEROUS.0 }, { $crate::GENEROUS.1 }, { $crate::GENEROUS.2 }>(file $(, $arg)*)
+        )
     }};
 }
 
@@ -250,7 +237,7 @@ mod tests {
         let s = synthetic_scene(0, 16, 16);
         for (i, j) in [(0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (0.0, 0.5), (1.0, 0.5)] {
             let (ray, _) = s.camera().ray(picomis::Vec2::new(i, j));
-            assert!(s.intersect(&ray, 0.0, f32::INFINITY, None).is_none_or(|h| h.object == 0));
+            assert!(s.intersect(&ray, 0.0, f32::INFINITY, None).is_none_or(|h| h.object.index() == 0));
         }
         assert_eq!(methods().len(), 8);
     }

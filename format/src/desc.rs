@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use picomis::{CameraDesc, Film, FovAxis, Material, Rgb, SceneError, Vec3};
+use picomis::{CameraDesc, Emission, Film, FovAxis, Light, Material, SceneError, Vec3};
 use serde::Deserialize;
 
 use crate::{Counts, Geometry, LoadError, SceneFile, Step, check_camera};
@@ -325,15 +325,9 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
             .ok_or_else(|| fail(&entry, format!("unknown material {material:?}")))?;
         let emitter = match emitter {
             Some(EmitterDesc { radiance, .. }) => {
-                let r: Rgb = v3(radiance);
-                if !r.is_finite() {
-                    return Err(kernel(&entry, SceneError::NonFinite(picomis::Field::Radiance)));
-                }
-                if r.min_element() < 0.0 {
-                    return Err(kernel(&entry, SceneError::OutOfRange(picomis::Field::Radiance)));
-                }
+                let r = Emission::radiance(v3(radiance)).map_err(|e| kernel(&entry, e))?;
                 lights += 1;
-                Some(r)
+                Some(r.rgb())
             }
             None => None,
         };
@@ -348,15 +342,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
             other => return Err(fail(&entry, unknown_type(other, "point"))),
         };
         let (position, intensity) = (v3(d.position), v3(d.intensity));
-        if !position.is_finite() {
-            return Err(kernel(&entry, SceneError::NonFinite(picomis::Field::Position)));
-        }
-        if !intensity.is_finite() {
-            return Err(kernel(&entry, SceneError::NonFinite(picomis::Field::Intensity)));
-        }
-        if intensity.min_element() < 0.0 {
-            return Err(kernel(&entry, SceneError::OutOfRange(picomis::Field::Intensity)));
-        }
+        Light::point(position, intensity).map_err(|e| kernel(&entry, e))?;
         lights += 1;
         steps.push(Step::PointLight { entry, position, intensity });
     }

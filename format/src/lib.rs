@@ -10,11 +10,14 @@
 //! firmware add the same materials, shapes and lights in the same order with the same f32 bits.
 #![deny(missing_docs)]
 
+mod catalog;
 mod codegen;
 mod desc;
 
 use std::fmt;
 use std::path::Path;
+
+pub use catalog::builtins_rust;
 
 use picomis::{
     Camera, CameraDesc, Collection, Film, Material, Method, RenderSettings, Rgb, SamplerKind, Scene,

@@ -19,13 +19,10 @@ use std::sync::atomic::{AtomicU32, Ordering};
 /// inputs would be vacuous.
 static ACCEPTED: [AtomicU32; 3] = [AtomicU32::new(0), AtomicU32::new(0), AtomicU32::new(0)];
 
-const SCENES: [(&str, &str); 5] = [
-    ("veach_mis", include_str!("../../scenes/veach_mis.json")),
-    ("lambert_sphere", include_str!("../../scenes/lambert_sphere.json")),
-    ("box_quad", include_str!("../../scenes/box_quad.json")),
-    ("point_lights", include_str!("../../scenes/point_lights.json")),
-    ("stress", include_str!("../../scenes/stress.json")),
-];
+/// The built-in scenes: (name, text).
+fn scenes() -> Vec<(&'static str, &'static str)> {
+    picomis_builtins::BUILTINS.iter().map(|b| (b.name, b.json)).collect()
+}
 
 fn cases(default: u32) -> u32 {
     std::env::var("PICOMIS_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(default)
@@ -136,8 +133,9 @@ fn apply(text: &str, edits: &[ByteEdit]) -> String {
 #[test]
 fn byte_mutations_of_builtin_scenes_never_panic() {
     let n = cases(3000);
-    let strategy = (0..SCENES.len(), proptest::collection::vec(byte_edit(), 1..6));
-    runner(n).run(&strategy, |(i, edits)| check(&apply(SCENES[i].1, &edits), 1)).unwrap();
+    let scenes = scenes();
+    let strategy = (0..scenes.len(), proptest::collection::vec(byte_edit(), 1..6));
+    runner(n).run(&strategy, |(i, edits)| check(&apply(scenes[i].1, &edits), 1)).unwrap();
     let accepted = ACCEPTED[1].load(Ordering::Relaxed);
     println!("fuzz: {n} byte-mutated scenes tried, {accepted} accepted and rendered");
     assert!(accepted > 0, "no mutated scene was accepted: the render path went untested");
@@ -249,7 +247,7 @@ fn edit_tree(mut v: Value, edits: &[TreeEdit]) -> Value {
 #[test]
 fn structured_mutations_of_builtin_scenes_never_panic() {
     let n = cases(3000);
-    let trees: Vec<Value> = SCENES.iter().map(|(_, t)| serde_json::from_str(t).unwrap()).collect();
+    let trees: Vec<Value> = scenes().iter().map(|(_, t)| serde_json::from_str(t).unwrap()).collect();
     let strategy = (0..trees.len(), proptest::collection::vec(tree_edit(), 1..4));
     runner(n)
         .run(&strategy, |(i, edits)| check(&edit_tree(trees[i].clone(), &edits).to_string(), 2))
@@ -264,7 +262,7 @@ fn structured_mutations_of_builtin_scenes_never_panic() {
 
 #[test]
 fn builtin_scenes_are_accepted_and_render() {
-    for (name, text) in SCENES {
+    for (name, text) in scenes() {
         let scene = SceneFile::parse(text, name).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(scene.name(), name);
         check(text, 3).unwrap();

@@ -1,8 +1,8 @@
 //! Built-in scenes and the choice of kernel capacities.
 //!
-//! Each built-in scene (a `picomis-scene/1` file in the workspace's `scenes/`, embedded with
-//! `include_str!`) is built as `Scene<S, L, M>` with its own object counts, counted by
-//! `build.rs`, exactly as a firmware build of that scene would be. Any other file is built with
+//! Each built-in scene (a `picomis-scene/1` file in the workspace's `scenes/`, listed with its
+//! object counts by the `picomis-builtins` crate) is built as `Scene<S, L, M>` with its own
+//! counts, exactly as a firmware build of that scene would be. Any other file is built with
 //! the host capacities [`HOST_SHAPES`], [`HOST_LIGHTS`] and [`HOST_MATERIALS`]; a file with more
 //! objects is rejected with "too many shapes for this build", naming the file and the entry.
 
@@ -20,22 +20,7 @@ pub const HOST_LIGHTS: usize = 32;
 /// Materials a user scene file may hold in this build.
 pub const HOST_MATERIALS: usize = 32;
 
-/// A built-in scene.
-#[derive(Clone, Copy, Debug)]
-pub struct Builtin {
-    /// Name (the file's `name`, which is also its file stem).
-    pub name: &'static str,
-    /// The scene file's text.
-    pub json: &'static str,
-    /// The file's description.
-    pub description: &'static str,
-    /// Shapes: the scene's shape capacity.
-    pub shapes: usize,
-    /// Area emitters plus point lights: the scene's light capacity.
-    pub lights: usize,
-    /// Materials: the scene's material capacity.
-    pub materials: usize,
-}
+pub use picomis_builtins::{BUILTINS, Builtin};
 
 /// Does something with a kernel scene of any capacity (the capacities are chosen by
 /// [`dispatch`]; a closure cannot be generic over them).
@@ -46,11 +31,24 @@ pub trait SceneVisitor {
     fn visit<const S: usize, const L: usize, const M: usize>(self, scene: Scene<S, L, M>) -> Self::Output;
 }
 
-include!(concat!(env!("OUT_DIR"), "/builtin_scenes.rs"));
+/// Builds `file` for `film` with the capacities of built-in scene `builtin` (its own counts), or
+/// with the host capacities for any other file, and hands it to `visitor`.
+pub fn dispatch<V: SceneVisitor>(
+    builtin: Option<&str>,
+    file: &SceneFile,
+    film: Film,
+    visitor: V,
+) -> Result<V::Output, LoadError> {
+    picomis_builtins::with_builtin_capacities!(
+        builtin.unwrap_or(""),
+        <S, L, M> => Ok(visitor.visit(file.build_with_film::<S, L, M>(film)?)),
+        _ => Ok(visitor.visit(file.build_with_film::<HOST_SHAPES, HOST_LIGHTS, HOST_MATERIALS>(film)?))
+    )
+}
 
 /// The built-in scene called `name`.
 pub fn find_builtin(name: &str) -> Option<&'static Builtin> {
-    BUILTINS.iter().find(|b| b.name == name)
+    picomis_builtins::find(name)
 }
 
 /// The built-in scene used when no scene is named.
@@ -122,7 +120,7 @@ mod tests {
             let loaded = load(Some(b.name)).unwrap();
             assert_eq!(loaded.builtin, Some(b.name));
             let c = loaded.file.counts();
-            // build.rs counted the same as picomis-format.
+            // The generated list holds picomis-format's counts.
             assert_eq!((c.shapes, c.lights, c.materials), (b.shapes, b.lights, b.materials), "{}", b.name);
             let film = loaded.file.film();
             let (s, l, m, ns, nl, nm) = loaded.visit(film, Capacities).unwrap();

@@ -1,14 +1,16 @@
-//! The MIS direct-lighting estimator of the seed lecture, multi-sample model:
+//! The MIS direct-lighting estimator of the lecture (Veach and Guibas 1995), multi-sample model:
 //!
 //! F = 1/n_l sum_j w_l(X_j) f(X_j)/p_l(X_j) + 1/n_b sum_j w_b(Y_j) f(Y_j)/p_b(Y_j),
 //!
-//! with f = L_e f_r cos(theta_i) over directions at the shading point, p_l the light technique's
-//! pdf converted to solid angle (selection included), p_b the BSDF's pdf, and w the weights of
-//! [`Method`](crate::Method) on q_i = n_i p_i. Each technique's weighted contribution and weights
-//! are kept apart, so the seed's weight and contribution images come from this one function.
+//! with f = L_e f_r cos(theta_i) over directions at the shading point, p_l = P(light) p_w the light
+//! technique's pdf (the light sampler's selection probability times its pdf per unit solid angle),
+//! p_b the BSDF's pdf, and w the weights of [`Method`](crate::Method) on q_i = n_i p_i. Each
+//! technique's weighted contribution and weights are kept apart, so the lecture's weight and
+//! contribution images come from this one function.
 
 use crate::light::Light;
-use crate::math::{Frame, Rgb, Vec3, finite3};
+use crate::light_sampler::{LightSampler, ShadingPoint};
+use crate::math::{Frame, Rgb, Vec2, Vec3, finite3};
 use crate::mis::Technique;
 use crate::rng::Sampler;
 use crate::scene::{Hit, Scene};
@@ -120,32 +122,36 @@ pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
     let Some(bsdf) = scene.material(x.object).filter(|m| !m.is_black()) else {
         return (by_light, by_bsdf);
     };
-    let (spheres, selection, method) =
-        (settings.sphere_sampling(), settings.light_selection(), settings.method());
+    let lights = LightSampler::new(scene, settings.light_selection(), settings.sphere_sampling());
+    let method = settings.method();
     let (n_l, n_b) = settings.technique_samples();
     let (n_light, n_bsdf) = (f32::from(n_l), f32::from(n_b));
+    let at = ShadingPoint { p: x.point.p, n: x.point.n, wo };
     let frame = Frame::from_normal(x.point.n);
     let wo = frame.to_local(wo);
     let p = x.point.p;
 
-    // Technique 1, light sampling: y on a light, visibility, w_l L_e f cos / (n_l p_l).
+    // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
     for _ in 0..n_l {
-        let Some((ls, light_object)) = scene.sample_light(p, sampler.next_2d(), spheres, selection) else {
-            continue;
-        };
+        let u_select = sampler.next_f32();
+        let u: Vec2 = sampler.next_2d();
+        let Some(chosen) = lights.select(&at, u_select) else { continue };
+        let Some(ls) = lights.sample(chosen.light, p, u) else { continue };
+        // The light technique's pdf of this direction: p_l = P(light) p_w(wi | light).
+        let p_light = chosen.probability * ls.pdf;
         let wi = frame.to_local(ls.wi);
         let (f, p_bsdf) = bsdf.eval_pdf(wo, wi);
         if f == Rgb::ZERO || ls.radiance == Rgb::ZERO {
             continue;
         }
         let shadow = Ray { origin: p, dir: ls.wi };
-        if !scene.unoccluded(&shadow, ls.distance, x.object, light_object) {
+        if !scene.unoccluded(&shadow, ls.distance, x.object, ls.emitter) {
             continue;
         }
         // A delta light cannot be hit by a BSDF sample: its weight is one.
         let w =
-            if ls.delta { 1.0 } else { method.weight(Technique::Light, n_light * ls.pdf, n_bsdf * p_bsdf) };
-        by_light.add(f * ls.radiance * (w / (n_light * ls.pdf)), w);
+            if ls.delta { 1.0 } else { method.weight(Technique::Light, n_light * p_light, n_bsdf * p_bsdf) };
+        by_light.add(f * ls.radiance * (w / (n_light * p_light)), w);
     }
 
     // Technique 2, BSDF sampling: wi ~ p_b, trace; if a light's front side is hit,
@@ -153,11 +159,11 @@ pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
     for _ in 0..n_b {
         let Some(bs) = bsdf.sample(wo, sampler.next_2d()) else { continue };
         let ray = Ray { origin: p, dir: frame.to_world(bs.wi) };
-        let Some((y, light_index, radiance)) = scene.emitter_hit(&ray, x.object) else { continue };
+        let Some((y, light, radiance)) = scene.emitter_hit(&ray, x.object) else { continue };
         if radiance == Rgb::ZERO {
             continue;
         }
-        let p_light = scene.light_pdf(light_index, p, &y.point, spheres, selection);
+        let p_light = lights.pmf(&at, light) * lights.pdf(light, p, &y.point);
         // The weight needs p_b as a function of the direction, the same function the light
         // technique's weight used (`eval_pdf`), so the two weights of a direction sum to one
         // exactly. (`bs.pdf`, from the sampled half vector, can differ from it by rounding at

@@ -85,7 +85,7 @@ mod tests {
     use crate::math::Rgb;
 
     fn area(shape: &Shape, l: f32) -> (Light, Shape) {
-        (Light::Area { shape: 0, radiance: Rgb::splat(l) }, *shape)
+        (Light::Area { shape: crate::ids::ShapeId::new(0), radiance: Rgb::splat(l) }, *shape)
     }
 
     #[test]

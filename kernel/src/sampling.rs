@@ -144,65 +144,81 @@ pub fn ggx_vndf_pdf(wo: Vec3, m: Vec3, alpha: f32) -> f32 {
     ggx_g1(wo, alpha) * max0(wo.dot(m)) * ggx_d(m, alpha) / wo.z
 }
 
-/// The largest f32 below one: remapped numbers are clamped to it, so they stay in [0, 1).
-pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+/// How many equally likely values a random number from
+/// [`Sampler::next_f32`](crate::rng::Sampler::next_f32) takes: its 24 bits, 2^24.
+pub const GRID: u32 = 1 << 24;
 
-/// A chosen index, its probability, and the random number that chose it rescaled to [0, 1)
-/// within the index's interval, so it can be used again (a 2-D sample then stays stratified
-/// across the choice and the rest of the sample).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DiscreteSample {
-    /// The index.
-    pub index: usize,
-    /// Its probability.
-    pub prob: f32,
-    /// `(u - cdf(index - 1)) / prob`, in [0, 1).
-    pub u_remapped: f32,
+/// A discrete distribution on the grid of the random number it is sampled with: entry `i` owns
+/// a run of the 2^24 equally likely values of `u`, so the probability [`GridDistribution::pmf`]
+/// reports is exactly the one [`GridDistribution::sample`] realises. Every positive weight gets
+/// at least one value: a share rounded to none would never be drawn while its pmf still lowered
+/// the other technique's MIS weights (a bias).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GridDistribution<const N: usize> {
+    /// Where each entry's run of grid values ends (cumulative); empty when no weight is positive.
+    ends: heapless::Vec<u32, N>,
 }
 
-/// Picks index `i` with probability `weights[i] / total` by a linear scan (small light lists).
-/// `None` when no weight is positive.
-#[inline]
-pub fn sample_discrete(weights: &[f32], total: f32, u: f32) -> Option<DiscreteSample> {
-    if !(total > 0.0) || !total.is_finite() {
-        return None;
-    }
-    let target = u * total;
-    let mut acc = 0.0;
-    let mut last = None;
-    for (i, &w) in weights.iter().enumerate() {
-        if w > 0.0 {
-            let below = acc;
-            acc += w;
-            let u_remapped = ((target - below) / w).clamp(0.0, ONE_MINUS_EPSILON);
-            last = Some(DiscreteSample { index: i, prob: w / total, u_remapped });
-            if target < acc {
-                return last;
+impl<const N: usize> GridDistribution<N> {
+    /// The distribution proportional to `weights` (at most `N` are read); entries whose weight is
+    /// not positive get no value. Empty (it samples nothing) when the weights do not have a
+    /// positive, finite sum.
+    pub fn new(weights: &[f32]) -> Self {
+        let mut ends = heapless::Vec::new();
+        let weights = weights.get(..N).unwrap_or(weights);
+        let total: f32 = weights.iter().filter(|w| **w > 0.0).sum();
+        if !(total > 0.0 && total.is_finite()) {
+            return Self { ends };
+        }
+        // Each share rounded to the grid, at least one value if positive; the rounding difference
+        // (at most N values either way) goes to the largest entry, which has at least GRID / N.
+        let scale = GRID as f32 / total;
+        let cells = |w: f32| if w > 0.0 { ((w * scale + 0.5) as u32).clamp(1, GRID) } else { 0 };
+        let mut sum = 0u32;
+        let mut largest = (0, 0);
+        for (i, &w) in weights.iter().enumerate() {
+            let c = cells(w);
+            sum += c;
+            if c > largest.1 {
+                largest = (i, c);
             }
         }
+        let mut end = 0u32;
+        for (i, &w) in weights.iter().enumerate() {
+            let c = if i == largest.0 { (largest.1 + GRID).saturating_sub(sum) } else { cells(w) };
+            end += c;
+            // `weights` has at most N entries.
+            let _ = ends.push(end);
+        }
+        Self { ends }
     }
-    // Rounding can leave `target` just above the last partial sum: take the last positive entry.
-    last
-}
 
-/// Picks one of `n` indices uniformly; `None` when `n` is 0.
-#[inline]
-pub fn sample_uniform_index(n: usize, u: f32) -> Option<DiscreteSample> {
-    if n == 0 {
-        return None;
+    /// True when nothing can be sampled (no positive weight).
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.ends.last().is_none_or(|&end| end == 0)
     }
-    let scaled = u * n as f32;
-    let index = (scaled as usize).min(n - 1);
-    let u_remapped = (scaled - index as f32).clamp(0.0, ONE_MINUS_EPSILON);
-    Some(DiscreteSample { index, prob: 1.0 / n as f32, u_remapped })
-}
 
-/// Probability of index `i` under [`sample_discrete`].
-#[inline]
-pub fn discrete_pdf(weights: &[f32], total: f32, i: usize) -> f32 {
-    match weights.get(i) {
-        Some(&w) if w > 0.0 && total > 0.0 && total.is_finite() => w / total,
-        _ => 0.0,
+    /// The entry owning the grid value of `u` in [0, 1), and its probability.
+    #[inline]
+    pub fn sample(&self, u: f32) -> Option<(usize, f32)> {
+        // u = k / 2^24 exactly for the sampler's numbers; others are clamped into the grid.
+        let k = ((u * GRID as f32) as u32).min(GRID - 1);
+        let i = self.ends.iter().position(|&end| k < end)?;
+        Some((i, self.pmf(i)))
+    }
+
+    /// The probability of entry `i` under [`GridDistribution::sample`]: its share of the grid.
+    #[inline]
+    pub fn pmf(&self, i: usize) -> f32 {
+        let start = match i.checked_sub(1) {
+            Some(j) => self.ends.get(j).copied().unwrap_or(0),
+            None => 0,
+        };
+        match self.ends.get(i) {
+            Some(&end) => (end - start) as f32 * (1.0 / GRID as f32),
+            None => 0.0,
+        }
     }
 }
 
@@ -247,20 +263,24 @@ mod tests {
     }
 
     #[test]
-    fn discrete_sampling_returns_positive_entries_only() {
-        let w = [0.0, 2.0, 0.0, 1.0];
-        let pick = |u| sample_discrete(&w, 3.0, u).map(|d| (d.index, d.prob, d.u_remapped));
-        assert_eq!(pick(0.0), Some((1, 2.0 / 3.0, 0.0)));
-        assert_eq!(pick(0.5), Some((1, 2.0 / 3.0, 0.75)));
-        assert_eq!(pick(0.9), Some((3, 1.0 / 3.0, 0.6999998)));
-        assert_eq!(pick(0.999_999_9), Some((3, 1.0 / 3.0, 0.9999995)));
-        let uniform = |u| sample_uniform_index(4, u).map(|d| (d.index, d.prob, d.u_remapped));
-        assert_eq!(uniform(0.0), Some((0, 0.25, 0.0)));
-        assert_eq!(uniform(0.625), Some((2, 0.25, 0.5)));
-        assert_eq!(uniform(ONE_MINUS_EPSILON), Some((3, 0.25, 0.99999976)));
-        assert_eq!(sample_uniform_index(0, 0.5), None);
-        assert_eq!(sample_discrete(&[0.0], 0.0, 0.5), None);
-        assert_eq!(discrete_pdf(&w, 3.0, 0), 0.0);
-        assert_eq!(discrete_pdf(&w, 3.0, 9), 0.0);
+    fn grid_distributions_realise_their_pmf_exactly() {
+        // Shares from 1 down to 1e-14: each positive weight gets at least one grid value.
+        let w = [0.0, 1e5, 1e-9, 3.0, 0.0, 1e-3];
+        let d = GridDistribution::<6>::new(&w);
+        let mut counts = [0u32; 6];
+        for k in 0..GRID {
+            let (i, p) = d.sample(k as f32 / GRID as f32).unwrap();
+            assert_eq!(p, d.pmf(i));
+            counts[i] += 1;
+        }
+        for (i, c) in counts.iter().enumerate() {
+            assert_eq!(*c as f32 / GRID as f32, d.pmf(i), "entry {i}");
+            assert_eq!(*c > 0, w[i] > 0.0, "entry {i}");
+        }
+        assert_eq!(counts.iter().sum::<u32>(), GRID);
+        assert!(GridDistribution::<2>::new(&[0.0, -1.0]).is_empty());
+        assert!(GridDistribution::<2>::new(&[f32::INFINITY, 1.0]).is_empty());
+        assert_eq!(GridDistribution::<2>::new(&[0.0]).sample(0.5), None);
+        assert_eq!(d.pmf(9), 0.0);
     }
 }

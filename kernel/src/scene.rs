@@ -1,54 +1,28 @@
 //! A scene in fixed-capacity storage: `S` shapes, `L` lights, `M` materials, chosen by the user
 //! of the kernel (a firmware build uses exactly its scene's counts). Every value is validated as
-//! it is added; a full collection is an error, never a panic.
+//! it is added; a full collection is an error, never a panic. The scene builds and answers ray
+//! queries; choosing and sampling lights is the light sampler's job
+//! ([`LightSampler`](crate::light_sampler::LightSampler)).
 
 use heapless::Vec;
 
 use crate::accel::{self, Filter, Packets};
 use crate::camera::{Camera, CameraDesc, Film};
-use crate::error::{Collection, Field, SceneError};
-use crate::light::{Light, LightSample, LightSelection, SphereSampling};
+use crate::error::{Collection, SceneError};
+use crate::ids::{LightId, MaterialId, ShapeId};
+use crate::light::Light;
 use crate::material::Material;
-use crate::math::{Rgb, Vec2, Vec3, finite3};
-use crate::sampling::{DiscreteSample, discrete_pdf, sample_discrete, sample_uniform_index};
+use crate::math::{Rgb, Vec3};
+use crate::sampling::GridDistribution;
 use crate::shape::{Ray, Shape, SurfacePoint};
-
-/// Index of a material in its scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct MaterialId(u16);
-
-/// Index of a shape in its scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct ShapeId(u16);
-
-/// Index of a light in its scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct LightId(u16);
-
-impl ShapeId {
-    /// The index.
-    pub fn index(self) -> usize {
-        usize::from(self.0)
-    }
-}
-
-impl LightId {
-    /// The index.
-    pub fn index(self) -> usize {
-        usize::from(self.0)
-    }
-}
 
 /// A shape with its material and, if it emits, its light.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Object {
     /// Geometry.
     pub shape: Shape,
-    material: u16,
-    light: Option<u16>,
+    material: MaterialId,
+    light: Option<LightId>,
 }
 
 /// The first surface a ray meets.
@@ -56,8 +30,8 @@ pub struct Object {
 pub struct Hit {
     /// Distance along the ray.
     pub t: f32,
-    /// Index of the object hit.
-    pub object: usize,
+    /// The object (shape) hit.
+    pub object: ShapeId,
     /// Position and front-side normal.
     pub point: SurfacePoint,
     /// True when the ray arrived on the front side.
@@ -75,17 +49,7 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     materials: Vec<Material, M>,
     lights: Vec<Light, L>,
     light_power: Vec<f32, L>,
-    total_power: f32,
-}
-
-fn check_emission(c: Rgb, field: Field) -> Result<(), SceneError> {
-    if !finite3(c) {
-        return Err(SceneError::NonFinite(field));
-    }
-    if c.min_element() < 0.0 {
-        return Err(SceneError::OutOfRange(field));
-    }
-    Ok(())
+    power_selection: GridDistribution<L>,
 }
 
 fn index16(len: usize, what: Collection) -> Result<u16, SceneError> {
@@ -103,7 +67,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             materials: Vec::new(),
             lights: Vec::new(),
             light_power: Vec::new(),
-            total_power: 0.0,
+            power_selection: GridDistribution::default(),
         })
     }
 
@@ -118,34 +82,33 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     pub fn add_material(&mut self, material: Material) -> Result<MaterialId, SceneError> {
         let id = index16(self.materials.len(), Collection::Materials)?;
         self.materials.push(material).map_err(|_| SceneError::CapacityExceeded(Collection::Materials))?;
-        Ok(MaterialId(id))
+        Ok(MaterialId::new(id))
     }
 
     /// Adds a shape that reflects with `material`.
     pub fn add_shape(&mut self, shape: Shape, material: MaterialId) -> Result<ShapeId, SceneError> {
-        if usize::from(material.0) >= self.materials.len() {
+        if material.index() >= self.materials.len() {
             return Err(SceneError::UnknownMaterial);
         }
         let id = index16(self.objects.len(), Collection::Shapes)?;
         self.objects
-            .push(Object { shape, material: material.0, light: None })
+            .push(Object { shape, material, light: None })
             .map_err(|_| SceneError::CapacityExceeded(Collection::Shapes))?;
         self.packets.push(usize::from(id), &shape);
-        Ok(ShapeId(id))
+        Ok(ShapeId::new(id))
     }
 
     /// Makes shape `shape` an area emitter of constant `radiance` on its front side.
     pub fn add_area_light(&mut self, shape: ShapeId, radiance: Rgb) -> Result<LightId, SceneError> {
-        check_emission(radiance, Field::Radiance)?;
+        let light = Light::area(shape, radiance)?;
         let object = self.objects.get(shape.index()).ok_or(SceneError::UnknownShape)?;
         if object.light.is_some() {
             return Err(SceneError::AlreadyEmitting);
         }
-        let light = Light::Area { shape: shape.0, radiance };
         let power = light.power(Some(&object.shape));
         let id = self.push_light(light, power)?;
         if let Some(object) = self.objects.get_mut(shape.index()) {
-            object.light = Some(id.0);
+            object.light = Some(id);
         }
         self.packets.set_emitter(shape.index());
         Ok(id)
@@ -153,11 +116,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
 
     /// Adds a point light of radiant `intensity` at `position`.
     pub fn add_point_light(&mut self, position: Vec3, intensity: Rgb) -> Result<LightId, SceneError> {
-        if !finite3(position) {
-            return Err(SceneError::NonFinite(Field::Position));
-        }
-        check_emission(intensity, Field::Intensity)?;
-        let light = Light::Point { position, intensity };
+        let light = Light::point(position, intensity)?;
         self.push_light(light, light.power(None))
     }
 
@@ -166,8 +125,8 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         let full = SceneError::CapacityExceeded(Collection::Lights);
         self.lights.push(light).map_err(|_| full)?;
         self.light_power.push(power).map_err(|_| full)?;
-        self.total_power = self.light_power.iter().sum();
-        Ok(LightId(id))
+        self.power_selection = GridDistribution::new(&self.light_power);
+        Ok(LightId::new(id))
     }
 
     /// The camera.
@@ -191,33 +150,45 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         &self.materials
     }
 
+    /// Light `light`.
+    #[inline]
+    pub fn light(&self, light: LightId) -> Option<&Light> {
+        self.lights.get(light.index())
+    }
+
+    /// Each light's share of the emitted power, as light selection by power draws it.
+    #[inline]
+    pub fn light_powers(&self) -> &GridDistribution<L> {
+        &self.power_selection
+    }
+
     /// The material of object `object`.
     #[inline]
-    pub fn material(&self, object: usize) -> Option<&Material> {
-        let o = self.objects.get(object)?;
-        self.materials.get(usize::from(o.material))
+    pub fn material(&self, object: ShapeId) -> Option<&Material> {
+        let o = self.objects.get(object.index())?;
+        self.materials.get(o.material.index())
     }
 
     /// The light an object emits as, if any.
     #[inline]
-    pub fn emitter(&self, object: usize) -> Option<(usize, &Light)> {
-        let i = usize::from(self.objects.get(object)?.light?);
-        Some((i, self.lights.get(i)?))
+    pub fn emitter(&self, object: ShapeId) -> Option<(LightId, &Light)> {
+        let id = self.objects.get(object.index())?.light?;
+        Some((id, self.lights.get(id.index())?))
     }
 
     /// The shape a light emits from (area lights).
     #[inline]
     pub fn light_shape(&self, light: &Light) -> Option<&Shape> {
         match light {
-            Light::Area { shape, .. } => self.objects.get(usize::from(*shape)).map(|o| &o.shape),
+            Light::Area { shape, .. } => self.objects.get(shape.index()).map(|o| &o.shape),
             Light::Point { .. } => None,
         }
     }
 
     /// The nearest hit in `(t_min, t_max)`, ignoring object `skip`.
     #[inline]
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, skip: Option<usize>) -> Option<Hit> {
-        let skip = skip.unwrap_or(usize::MAX);
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, skip: Option<ShapeId>) -> Option<Hit> {
+        let skip = skip.map_or(usize::MAX, ShapeId::index);
         if accel::ENABLED {
             let (t, i) = self.packets.nearest(ray, t_min, t_max, Filter::AllBut(skip), |i| self.shape(i))?;
             return self.hit(ray, t, i);
@@ -246,15 +217,17 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         let shape = &self.objects.get(object)?.shape;
         let p = ray.at(t);
         let n = shape.normal_at(p);
+        let object = ShapeId::new(object as u16); // < S, and S shapes have u16 indices
         Some(Hit { t, object, point: SurfacePoint { p, n }, front: n.dot(ray.dir) < 0.0 })
     }
 
     /// The first surface along `ray` (ignoring object `skip`) if it is an emitter's front side:
-    /// the emitting hit, its light index and radiance. Cheaper than [`Scene::intersect`]: the
+    /// the emitting hit, its light and radiance. Cheaper than [`Scene::intersect`]: the
     /// closest emitter is found first, then only an any-hit occlusion test by the other objects
     /// runs up to it, so rays that miss every light test only the emitters.
     #[inline]
-    pub fn emitter_hit(&self, ray: &Ray, skip: usize) -> Option<(Hit, usize, Rgb)> {
+    pub fn emitter_hit(&self, ray: &Ray, skip: ShapeId) -> Option<(Hit, LightId, Rgb)> {
+        let skip = skip.index();
         let (mut t_far, mut best) = (f32::INFINITY, usize::MAX);
         if accel::ENABLED {
             let shape = |i| self.shape(i);
@@ -285,17 +258,17 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
                 }
             }
         }
-        let light_index = usize::from(self.objects.get(best)?.light?);
-        match self.lights.get(light_index)? {
-            Light::Area { radiance, .. } => Some((hit, light_index, *radiance)),
+        let light = self.objects.get(best)?.light?;
+        match self.lights.get(light.index())? {
+            Light::Area { radiance, .. } => Some((hit, light, *radiance)),
             Light::Point { .. } => None,
         }
     }
 
     /// True when nothing but objects `a` and `b` lies on the ray before `t_max`.
     #[inline]
-    pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: usize, b: Option<usize>) -> bool {
-        let b = b.unwrap_or(usize::MAX);
+    pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: ShapeId, b: Option<ShapeId>) -> bool {
+        let (a, b) = (a.index(), b.map_or(usize::MAX, ShapeId::index));
         if accel::ENABLED {
             return !self.packets.any(ray, 0.0, t_max, Filter::AllButTwo(a, b), |i| self.shape(i));
         }
@@ -306,82 +279,13 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         }
         true
     }
-
-    /// Chooses a light for a light sample: its index and selection probability.
-    #[inline]
-    pub fn select_light(&self, u: f32, selection: LightSelection) -> Option<(usize, f32)> {
-        self.choose_light(u, selection).map(|d| (d.index, d.prob))
-    }
-
-    /// [`Scene::select_light`], also returning `u` rescaled within the chosen light's interval.
-    #[inline]
-    pub fn choose_light(&self, u: f32, selection: LightSelection) -> Option<DiscreteSample> {
-        if let LightSelection::Power = selection {
-            if let Some(pick) = sample_discrete(&self.light_power, self.total_power, u) {
-                return Some(pick);
-            }
-        }
-        // Uniform (also when no light has power).
-        sample_uniform_index(self.lights.len(), u)
-    }
-
-    /// Probability that [`Scene::select_light`] picks light `i`.
-    #[inline]
-    pub fn light_selection_pdf(&self, i: usize, selection: LightSelection) -> f32 {
-        let n = self.lights.len();
-        if i >= n {
-            return 0.0;
-        }
-        match selection {
-            LightSelection::Power if self.total_power > 0.0 && self.total_power.is_finite() => {
-                discrete_pdf(&self.light_power, self.total_power, i)
-            }
-            _ => 1.0 / n as f32,
-        }
-    }
-
-    /// Light sampling from `x` with one 2-D random point: `u.x` chooses a light and, rescaled
-    /// within that light's interval, goes on with `u.y` to choose the point on it (as Mitsuba
-    /// does), so a stratified `u` stays stratified for every light. The returned pdf includes the
-    /// selection probability. Also returns the light's emitting object, if any.
-    #[inline]
-    pub fn sample_light(
-        &self,
-        x: Vec3,
-        u: Vec2,
-        spheres: SphereSampling,
-        selection: LightSelection,
-    ) -> Option<(LightSample, Option<usize>)> {
-        let DiscreteSample { index: i, prob: p_select, u_remapped } = self.choose_light(u.x, selection)?;
-        let light = self.lights.get(i)?;
-        let sample = light.sample_li(self.light_shape(light), x, Vec2::new(u_remapped, u.y), spheres)?;
-        let object = match light {
-            Light::Area { shape, .. } => Some(usize::from(*shape)),
-            Light::Point { .. } => None,
-        };
-        Some((LightSample { pdf: sample.pdf * p_select, ..sample }, object))
-    }
-
-    /// Pdf (solid angle at `x`, selection included) with which light sampling produces the
-    /// direction to point `y` on light `i`.
-    #[inline]
-    pub fn light_pdf(
-        &self,
-        i: usize,
-        x: Vec3,
-        y: &SurfacePoint,
-        spheres: SphereSampling,
-        selection: LightSelection,
-    ) -> f32 {
-        let Some(light) = self.lights.get(i) else { return 0.0 };
-        self.light_selection_pdf(i, selection) * light.pdf_li(self.light_shape(light), x, y, spheres)
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::camera::FovAxis;
+    use crate::error::Field;
 
     fn cam() -> CameraDesc {
         CameraDesc {
@@ -418,27 +322,8 @@ mod tests {
             Err(SceneError::CapacityExceeded(Collection::Lights))
         );
         assert_eq!(
-            s.add_shape(Shape::sphere(Vec3::ZERO, 1.0).unwrap(), MaterialId(7)),
+            s.add_shape(Shape::sphere(Vec3::ZERO, 1.0).unwrap(), MaterialId::new(7)),
             Err(SceneError::UnknownMaterial)
         );
-    }
-
-    #[test]
-    fn selection_probabilities_sum_to_one() {
-        let mut s: Scene<2, 3, 1> = Scene::new(cam(), Film::new(4, 4).unwrap()).unwrap();
-        let m = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
-        let a = s.add_shape(Shape::sphere(Vec3::ZERO, 1.0).unwrap(), m).unwrap();
-        s.add_area_light(a, Rgb::splat(2.0)).unwrap();
-        s.add_point_light(Vec3::ONE, Rgb::splat(1.0)).unwrap();
-        s.add_point_light(Vec3::ONE, Rgb::ZERO).unwrap();
-        for sel in [LightSelection::Uniform, LightSelection::Power] {
-            let sum: f32 = (0..3).map(|i| s.light_selection_pdf(i, sel)).sum();
-            assert!((sum - 1.0).abs() < 1e-6);
-            // Never selects a light with zero selection probability.
-            for k in 0..1000 {
-                let (i, p) = s.select_light(k as f32 / 1000.0, sel).unwrap();
-                assert!(p > 0.0 && (p - s.light_selection_pdf(i, sel)).abs() < 1e-6);
-            }
-        }
     }
 }

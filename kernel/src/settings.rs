@@ -1,7 +1,7 @@
 //! Render settings: which techniques, how many samples, how they are combined, and the seed.
 
 use crate::error::{Field, SceneError};
-use crate::light::{LightSelection, SphereSampling};
+use crate::light_sampler::{LightSelection, SphereSampling};
 use crate::mis::Method;
 use crate::rng::SamplerKind;
 

@@ -16,8 +16,8 @@
 //! Tests are host code: everything here computes in f64 unless it calls the kernel.
 
 use picomis::{
-    CameraDesc, FovAxis, Hit, Ray, RenderSettings, Rgb, Sampler, Scene, SurfacePoint, TechniqueEstimate,
-    Vec2, Vec3, estimate_direct, trace,
+    CameraDesc, FovAxis, Hit, Ray, RenderSettings, Rgb, Sampler, Scene, ShapeId, SurfacePoint,
+    TechniqueEstimate, Vec2, Vec3, estimate_direct, trace,
 };
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 use std::f64::consts::PI;
@@ -705,7 +705,7 @@ pub fn floor_corners(half: f32) -> [Vec3; 4] {
 }
 
 /// The hit record of a shading point `p` with front normal `n` on object `object`.
-pub fn shading_hit(object: usize, p: Vec3, n: Vec3) -> Hit {
+pub fn shading_hit(object: ShapeId, p: Vec3, n: Vec3) -> Hit {
     Hit { t: 1.0, object, point: SurfacePoint { p, n }, front: true }
 }
 

@@ -44,9 +44,9 @@ use embedded_graphics_core::primitives::{PointsIter, Rectangle};
 use picomis::math::Frame;
 use picomis::sampling::{sample_cosine_hemisphere, sample_uniform_sphere};
 use picomis::{
-    CameraDesc, Estimate, Film, FovAxis, Heuristic, Light, LightSelection, Material, Method, Ray,
-    RenderSettings, Rgb, Sampler, Scene, Shape, SphereSampling, SurfacePoint, Vec3, render, render_pixel,
-    render_tile, tiles, tone_map,
+    CameraDesc, Estimate, Film, FovAxis, Heuristic, Light, LightId, LightSampler, LightSelection, Material,
+    Method, Ray, RenderSettings, Rgb, Sampler, Scene, ShadingPoint, Shape, ShapeId, SphereSampling,
+    SurfacePoint, Vec3, render, render_pixel, render_tile, tiles, tone_map,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseResult, TestRng, TestRunner};
@@ -383,13 +383,15 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
     let (n_l, n_b) = settings.technique_samples();
     let counts = [(1.0, 1.0), (f32::from(n_l), f32::from(n_b))];
     let mut rng = Sampler::new(settings.seed(), 0x9DF, 0);
+    let lights = LightSampler::new(scene, selection, spheres);
     for (object, o) in scene.objects().iter().enumerate() {
+        let object = ShapeId::new(object as u16);
         let material = *scene.material(object).unwrap();
         for _ in 0..points {
             let y = o.shape.sample_area(rng.next_2d());
             let (p, frame) = (y.p, Frame::from_normal(y.n));
             let wo = local_wo(&mut rng);
-            let at = format!("object {object} at {p} (n {}), wo {wo}", y.n);
+            let at = format!("object {object:?} at {p} (n {}), wo {wo}", y.n);
 
             // Any direction, including below the surface.
             let wr = sample_uniform_sphere(rng.next_2d());
@@ -398,9 +400,17 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
             prop_assert_eq!(pdf, material.pdf(wo, wr));
 
             // A light sample.
-            if let Some((ls, light_object)) = scene.sample_light(p, rng.next_2d(), spheres, selection) {
-                let what = format!("{at}: light sample {ls:?}");
+            let (u_select, u) = (rng.next_f32(), rng.next_2d());
+            let shading = ShadingPoint { p, n: y.n, wo: frame.to_world(wo) };
+            let chosen = lights.select(&shading, u_select);
+            let sample = chosen.and_then(|c| Some((c, lights.sample(c.light, p, u)?)));
+            if let Some((chosen, ls)) = sample {
+                let what = format!("{at}: light sample {ls:?} of {chosen:?}");
                 prop_assert!(ls.pdf.is_finite() && ls.pdf > 0.0, "{what}: pdf");
+                prop_assert_eq!(chosen.probability, lights.pmf(&shading, chosen.light));
+                // The light technique's pdf: selection times the direction's pdf.
+                let p_light = chosen.probability * ls.pdf;
+                prop_assert!(p_light.is_finite() && p_light > 0.0, "{what}: pdf");
                 prop_assert!(
                     finite_non_negative(ls.radiance) && ls.distance.is_finite() && ls.distance >= 0.0,
                     "{what}"
@@ -409,19 +419,20 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
                 let (f, p_bsdf) = material.eval_pdf(wo, frame.to_local(ls.wi));
                 prop_assert!(finite_non_negative(f) && pdf_ok(p_bsdf), "{what}: f {f}, BSDF pdf {p_bsdf}");
                 prop_assert!(f == Rgb::ZERO || p_bsdf > 0.0, "{what}: f = {f} > 0 but the BSDF pdf is 0");
-                let unweighted = f * ls.radiance / ls.pdf;
+                let unweighted = f * ls.radiance / p_light;
                 prop_assert!(finite_non_negative(unweighted), "{what}: f L / p = {unweighted}");
                 if ls.delta {
-                    prop_assert!(light_object.is_none(), "{what}: a delta light on a shape");
+                    prop_assert!(ls.emitter.is_none(), "{what}: a delta light on a shape");
                 } else {
                     for (c_l, c_b) in counts {
-                        check_weights([c_l * ls.pdf, c_b * p_bsdf], 0, unweighted / c_l.max(1.0), &what)?;
+                        check_weights([c_l * p_light, c_b * p_bsdf], 0, unweighted / c_l.max(1.0), &what)?;
                     }
-                    let emitter = light_object.and_then(|i| scene.emitter(i).map(|(l, _)| (i, l)));
+                    let emitter = ls.emitter.and_then(|i| scene.emitter(i).map(|(l, _)| (i, l)));
                     prop_assert!(emitter.is_some(), "{what}: an area-light sample without its emitter");
                     if let Some((i, light)) = emitter {
-                        let shape = &scene.objects()[i].shape;
-                        tally.add(check_sample_pdf(scene, shape, light, p, &ls, settings, &what)?);
+                        prop_assert_eq!(light, chosen.light, "{}: the sample's emitter", what);
+                        let shape = &scene.objects()[i.index()].shape;
+                        tally.add(check_sample_pdf(&lights, shape, light, p, &ls, settings, &what)?);
                     }
                     if f != Rgb::ZERO {
                         tally.add("light sample with f > 0");
@@ -437,12 +448,12 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
             tally.add(check_bsdf_sample(&material, wo, &bs, &what)?);
             let ray = Ray { origin: p, dir: frame.to_world(bs.wi) };
             if let Some((hit, light, radiance)) = scene.emitter_hit(&ray, object) {
-                let p_light = scene.light_pdf(light, p, &hit.point, spheres, selection);
+                let p_light = lights.pmf(&shading, light) * lights.pdf(light, p, &hit.point);
                 prop_assert!(pdf_ok(p_light), "{what}: light pdf {p_light} at {hit:?}");
                 if radiance != Rgb::ZERO {
                     prop_assert!(
                         p_light > 0.0,
-                        "{what}: hit light {light} at {hit:?}, but its light pdf is 0"
+                        "{what}: hit light {light:?} at {hit:?}, but its light pdf is 0"
                     );
                     tally.add("BSDF sample hitting a light");
                     if matches!(material, Material::GgxConductor { alpha, .. } if alpha < 1e-3) {
@@ -500,22 +511,22 @@ fn check_bsdf_sample(
     })
 }
 
-/// The pdf of a light sample re-evaluated by `Scene::light_pdf` at the point it found equals the
+/// The pdf of a light sample re-evaluated by `LightSampler::pdf` at the point it found equals the
 /// sample's own pdf: exactly for the cone (it depends on the shading point only), to rounding of
 /// the re-constructed point for area sampling (checked where that rounding is below 1%).
 fn check_sample_pdf(
-    scene: &S,
+    lights: &LightSampler<'_, 8, 8, 8>,
     shape: &Shape,
-    light: usize,
+    light: LightId,
     p: Vec3,
     ls: &picomis::LightSample,
     settings: &RenderSettings,
     what: &str,
 ) -> Result<&'static str, TestCaseError> {
-    let (spheres, selection) = (settings.sphere_sampling(), settings.light_selection());
+    let spheres = settings.sphere_sampling();
     let yp = p + ls.wi * ls.distance;
     let y = SurfacePoint { p: yp, n: shape.normal_at(yp) };
-    let again = scene.light_pdf(light, p, &y, spheres, selection);
+    let again = lights.pdf(light, p, &y);
     prop_assert!(pdf_ok(again), "{what}: light_pdf {again}");
     let by_cone = match (spheres, shape.as_sphere()) {
         (SphereSampling::Cone, Some((c, r))) => (c - p).length_squared() > r * r,
@@ -561,7 +572,7 @@ fn pdfs_are_finite_and_weights_partition_unity() {
         ("BSDF sample re-evaluated, GGX alpha < 1e-2", 15_000),
     ]);
 }
-/// The point lights of a scene carry no pdf: `Scene::light_pdf` is 0 for them.
+/// The point lights of a scene carry no pdf: `LightSampler::pdf` is 0 for them.
 #[test]
 fn point_lights_have_no_light_pdf() {
     let mut scene: S = Scene::new(picomis_tests::camera(), Film::new(4, 4).unwrap()).unwrap();
@@ -569,7 +580,8 @@ fn point_lights_have_no_light_pdf() {
     assert!(matches!(scene.lights()[0], Light::Point { .. }));
     let y = SurfacePoint { p: Vec3::Y, n: -Vec3::Y };
     for spheres in [SphereSampling::Area, SphereSampling::Cone] {
-        assert_eq!(scene.light_pdf(0, Vec3::ZERO, &y, spheres, LightSelection::Uniform), 0.0);
+        let lights = LightSampler::new(&scene, LightSelection::Uniform, spheres);
+        assert_eq!(lights.pdf(LightId::new(0), Vec3::ZERO, &y), 0.0);
     }
 }
 

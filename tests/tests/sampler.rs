@@ -43,7 +43,7 @@ fn scene() -> (Scene<3, 2, 2>, f64) {
 
 /// Statistics of `REPLICAS` pixel estimates of `SPP` samples each (channel 0).
 fn replicas(scene: &Scene<3, 2, 2>, settings: &RenderSettings) -> Stats {
-    let hit = shading_hit(0, Vec3::ZERO, Vec3::Y);
+    let hit = shading_hit(picomis::ShapeId::new(0), Vec3::ZERO, Vec3::Y);
     let wo = Vec3::new(0.3, 0.9, -0.2).normalize();
     let mut st = Stats::new();
     for pixel in 0..REPLICAS {

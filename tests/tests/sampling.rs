@@ -14,8 +14,8 @@ use picomis::sampling::{
     sample_uniform_sphere, uniform_cone_pdf, uniform_sphere_pdf,
 };
 use picomis::{
-    Film, Light, LightSelection, Material, Rgb, Sampler, Scene, Shape, SphereSampling, SurfacePoint, Vec2,
-    Vec3,
+    Film, Light, LightId, LightSampler, LightSelection, Material, Rgb, Sampler, Scene, ShadingPoint, Shape,
+    ShapeId, SphereSampling, SurfacePoint, Vec2, Vec3,
 };
 use picomis_tests::{
     Cap, DVec3, Histogram2d, Stats, assert_chi2, assert_unbiased, camera, cone_measure, d3, f3, frame,
@@ -115,7 +115,7 @@ impl QuadChart {
 
 /// An emitting sphere as a kernel light and its shape.
 fn sphere_light(c: Vec3, r: f32) -> (Light, Shape) {
-    (Light::Area { shape: 0, radiance: Rgb::ONE }, Shape::sphere(c, r).unwrap())
+    (Light::Area { shape: ShapeId::new(0), radiance: Rgb::ONE }, Shape::sphere(c, r).unwrap())
 }
 
 /// Solid-angle pdf of a light's sampling technique at a direction from `x`, found as the kernel's
@@ -308,7 +308,7 @@ fn quad_light() -> (Light, Shape, [Vec3; 4]) {
     let corners =
         quad_corners(Vec3::new(-0.6, 1.5, 0.8), Vec3::new(0.0, 0.3, -1.4), Vec3::new(1.1, 0.2, 0.1));
     let shape = Shape::quad(corners).unwrap();
-    (Light::Area { shape: 0, radiance: Rgb::ONE }, shape, corners)
+    (Light::Area { shape: ShapeId::new(0), radiance: Rgb::ONE }, shape, corners)
 }
 
 fn quad_points() -> [Vec3; 2] {
@@ -338,7 +338,7 @@ fn chi2_quad_light_by_area() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Chi-square: light selection and Scene::sample_light / Scene::light_pdf
+// Chi-square: the light sampler, LightSampler::select / pmf and sample / pdf
 
 type LightScene = Scene<4, 5, 1>;
 
@@ -380,26 +380,64 @@ fn chi2_light_selection() {
             LightSelection::Uniform => vec![0.25; 4],
             LightSelection::Power => powers.iter().map(|p| p / total).collect(),
         };
+        let lights = LightSampler::new(&s, selection, SphereSampling::Cone);
+        let at = ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo: Vec3::Y };
         for (i, e) in exact.iter().enumerate() {
-            let p = f64::from(s.light_selection_pdf(i, selection));
+            let p = f64::from(lights.pmf(&at, LightId::new(i as u16)));
             assert!((p - e).abs() < 1e-6, "{selection:?}: P(light {i}) = {p}, expected {e}");
         }
         let mut rng = Sampler::new(200 + k as u32, 0, 0);
         let mut observed = vec![0.0; 4];
         for _ in 0..N_CHI2 {
-            let (i, p) = s.select_light(rng.next_f32(), selection).unwrap();
-            assert_eq!(p, s.light_selection_pdf(i, selection));
-            observed[i] += 1.0;
+            let chosen = lights.select(&at, rng.next_f32()).unwrap();
+            assert_eq!(chosen.probability, lights.pmf(&at, chosen.light));
+            observed[chosen.light.index()] += 1.0;
         }
         let expected: Vec<f64> = exact.iter().map(|p| p * N_CHI2 as f64).collect();
         assert_chi2(&format!("light selection {selection:?}"), &observed, &expected, CHI2_TESTS);
     }
 }
 
+/// Light selection by power is exact: every light is chosen with exactly the probability the
+/// MIS weights are given (`pmf`), counted over all 2^24 values the sampler's random number takes,
+/// even where the powers span 14 orders of magnitude (a share of 1e-14 is far below one grid
+/// value, 6e-8: before the grid distribution such a light was never chosen while its pmf still
+/// lowered the BSDF samples' weights, so its light went missing).
+#[test]
+fn power_selection_realises_its_pmf_exactly() {
+    let powers = [1e-9f32, 1e5, 1e-6, 1.0, 1e-3, 1e3, 1e-9];
+    let mut s: Scene<1, 7, 1> = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
+    for (i, p) in powers.iter().enumerate() {
+        let intensity = Rgb::splat(p / (4.0 * std::f32::consts::PI));
+        s.add_point_light(Vec3::new(i as f32, 3.0, 0.0), intensity).unwrap();
+    }
+    let lights = LightSampler::new(&s, LightSelection::Power, SphereSampling::Cone);
+    let at = ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo: Vec3::Y };
+    const GRID: u32 = 1 << 24;
+    let mut counts = [0u64; 7];
+    for k in 0..GRID {
+        // Exactly the values `Sampler::next_f32` returns.
+        let chosen = lights.select(&at, k as f32 / GRID as f32).unwrap();
+        counts[chosen.light.index()] += 1;
+    }
+    let total: f64 = powers.iter().map(|&p| f64::from(p)).sum();
+    for (i, &c) in counts.iter().enumerate() {
+        let pmf = f64::from(lights.pmf(&at, LightId::new(i as u16)));
+        let realised = c as f64 / f64::from(GRID);
+        assert_eq!(realised, pmf, "light {i} (power {:e}): chosen {c} times", powers[i]);
+        assert!(c > 0, "light {i} (power {:e}) is never chosen", powers[i]);
+        // Each share is rounded to the grid (at least one value); the largest light takes the
+        // rounding of all, at most one grid value per light.
+        let share = f64::from(powers[i]) / total;
+        let tolerance = powers.len() as f64 / f64::from(GRID);
+        assert!((pmf - share).abs() <= tolerance, "light {i}: pmf {pmf:e}, share {share:e}");
+    }
+}
+
 #[test]
 fn chi2_scene_light_sampling() {
-    // Scene::sample_light (selection, then a point) against Scene::light_pdf (selection included):
-    // one chart per area light, one cell for the point light, one for "no sample".
+    // The light sampler's selection then a point, against pmf x pdf (the light technique's pdf
+    // p_l = P(light) p_w): one chart per area light, one cell per point light, one for "no sample".
     let s = light_scene();
     let x = Vec3::new(0.2, 0.0, 0.3);
     let sphere = s.objects()[0].shape;
@@ -415,9 +453,15 @@ fn chi2_scene_light_sampling() {
             let mut hs = Histogram2d::new(40, 64);
             let mut hq = Histogram2d::new(24, 24);
             let (mut point, mut none) = ([0.0; 2], 0.0);
+            let lights = LightSampler::new(&s, selection, spheres);
+            let at = ShadingPoint { p: x, n: Vec3::Y, wo: Vec3::Y };
             let mut rng = Sampler::new(300 + k, 0, 0);
             for _ in 0..N_CHI2 {
-                match s.sample_light(x, rng.next_2d(), spheres, selection) {
+                let u_select = rng.next_f32();
+                let u = rng.next_2d();
+                let chosen = lights.select(&at, u_select).unwrap();
+                let sample = lights.sample(chosen.light, x, u);
+                match sample.map(|ls| (ls, ls.emitter.map(ShapeId::index))) {
                     Some((ls, Some(0))) => match spheres {
                         SphereSampling::Cone => hs.add(cone.coords(d3(ls.wi))),
                         SphereSampling::Area => hs.add(cap.coords(sample_point(x, ls.wi, ls.distance))),
@@ -426,17 +470,19 @@ fn chi2_scene_light_sampling() {
                     Some((ls, None)) => {
                         // A point light (the bright one, or the dark one under uniform
                         // selection): a delta light whose pdf is its selection probability.
-                        assert!(ls.delta);
+                        assert!(ls.delta && ls.pdf == 1.0);
                         let i = if ls.radiance == Rgb::ZERO { 3 } else { 2 };
-                        assert_eq!(ls.pdf, s.light_selection_pdf(i, selection), "{label}");
-                        point[i - 2] += 1.0;
+                        assert_eq!(chosen.light, LightId::new(i), "{label}");
+                        point[usize::from(i) - 2] += 1.0;
                     }
                     None => none += 1.0,
                 }
             }
             let n = N_CHI2 as f64;
-            let pdf_at = |light: usize, p: Vec3, nrm: Vec3| {
-                f64::from(s.light_pdf(light, x, &SurfacePoint { p, n: nrm }, spheres, selection))
+            let pdf_at = |light: u16, p: Vec3, nrm: Vec3| {
+                let light = LightId::new(light);
+                let p_omega = lights.pdf(light, x, &SurfacePoint { p, n: nrm });
+                f64::from(lights.pmf(&at, light)) * f64::from(p_omega)
             };
             let (es, ts) = match spheres {
                 SphereSampling::Cone => {
@@ -452,7 +498,7 @@ fn chi2_scene_light_sampling() {
                 SphereSampling::Area => hs.cell_expectations(n, cap.density(|p, nrm| pdf_at(0, p, nrm))),
             };
             let (eq, tq) = hq.cell_expectations(n, quad_chart.density(|p, nrm| pdf_at(1, p, nrm)));
-            let p_point = [2, 3].map(|i| n * f64::from(s.light_selection_pdf(i, selection)));
+            let p_point = [2, 3].map(|i| n * f64::from(lights.pmf(&at, LightId::new(i))));
             let mut observed = hs.observed[..=hs.cells()].to_vec();
             observed.extend_from_slice(&hq.observed[..=hq.cells()]);
             observed.extend_from_slice(&[point[0], point[1], none]);

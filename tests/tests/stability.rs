@@ -254,7 +254,7 @@ fn lambert_out(e: f64) -> f64 {
 fn view(scene: &S, origin: Vec3, target: Vec3, object: usize) -> (Hit, Vec3) {
     let ray = Ray { origin, dir: (target - origin).normalize() };
     let hit = scene.intersect(&ray, 0.0, f32::INFINITY, None).expect("the view ray hits the scene");
-    assert_eq!(hit.object, object, "the view ray must hit object {object} first");
+    assert_eq!(hit.object.index(), object, "the view ray must hit object {object} first");
     assert!(hit.front, "the view ray must hit the front side");
     (hit, -ray.dir)
 }
@@ -267,7 +267,7 @@ fn tilt(deg: f32) -> Vec3 {
 
 /// Shading point at the origin of the floor, normal +y.
 fn origin_hit() -> Hit {
-    shading_hit(0, Vec3::ZERO, Vec3::Y)
+    shading_hit(picomis::ShapeId::new(0), Vec3::ZERO, Vec3::Y)
 }
 
 /// A general viewing direction above the floor.
@@ -569,7 +569,7 @@ fn touching() -> Case {
     // Tangent to the floor at the origin, seen from 0.1 away: the sphere touches the horizon.
     let c = Vec3::Y;
     s.sphere_light(c, 1.0, 1.0);
-    let hit = shading_hit(0, Vec3::new(0.1, 0.0, 0.0), Vec3::Y);
+    let hit = shading_hit(picomis::ShapeId::new(0), Vec3::new(0.1, 0.0, 0.0), Vec3::Y);
     let exact = lambert_out(sphere_e(&hit, c, 1.0, 1.0));
     Case::new(
         "sphere light touching the floor, 0.1 from the contact",
@@ -914,7 +914,7 @@ fn wall_touching_floor() -> Case {
     let wall = quad_corners(Vec3::new(0.0, 0.0, -5.0), Vec3::new(0.0, 5.0, 0.0), Vec3::new(0.0, 0.0, 10.0));
     s.add(Shape::quad(wall).unwrap(), lambertian());
     s.sphere_light(Vec3::new(2.0, 1.0, 0.0), 0.5, 10.0);
-    let hit = shading_hit(0, Vec3::new(-1e-5, 0.0, 0.0), Vec3::Y);
+    let hit = shading_hit(picomis::ShapeId::new(0), Vec3::new(-1e-5, 0.0, 0.0), Vec3::Y);
     Case::new(
         "light behind a wall touching the floor, 1e-5 from it",
         s.scene,
@@ -930,7 +930,7 @@ fn sphere_next_to_sphere(gap: f32) -> Case {
     s.add(Shape::sphere(Vec3::ZERO, 1.0).unwrap(), lambertian());
     s.add(Shape::sphere(Vec3::new(2.0 + gap, 0.0, 0.0), 1.0).unwrap(), lambertian());
     s.sphere_light(Vec3::new(6.0, 0.0, 0.0), 0.5, 10.0);
-    let hit = shading_hit(0, Vec3::X, Vec3::X);
+    let hit = shading_hit(picomis::ShapeId::new(0), Vec3::X, Vec3::X);
     let label = if gap > 0.0 {
         format!("sphere next to a sphere (gap {gap:.0e}), light behind")
     } else {

@@ -97,7 +97,7 @@ fn check_methods<const S: usize, const L: usize, const M: usize>(
     exact: [f64; 3],
     stream: u32,
 ) {
-    let hit = shading_hit(0, Vec3::ZERO, Vec3::Y);
+    let hit = shading_hit(picomis::ShapeId::new(0), Vec3::ZERO, Vec3::Y);
     let wo = Vec3::new(0.3, 0.9, -0.2).normalize();
     for kind in SamplerKind::ALL {
         for (k, (name, method)) in methods.iter().enumerate() {
@@ -295,7 +295,7 @@ fn d_point_light_plus_sphere_light() {
         }
     }
     // BSDF sampling alone cannot hit a point light: it converges to the sphere's part only.
-    let hit = shading_hit(0, Vec3::ZERO, Vec3::Y);
+    let hit = shading_hit(picomis::ShapeId::new(0), Vec3::ZERO, Vec3::Y);
     let st = direct_stats(&scene, &settings(Method::BsdfOnly, 1, 1), &hit, Vec3::Y, 5900, N);
     report("(d) BSDF only (sphere part)", &st.total, sphere_part);
     assert_unbiased_rgb("(d) BSDF only misses the point light", &st.total, sphere_part, MAX_REL_STDERR);
@@ -420,7 +420,7 @@ fn f_glossy_receiver() {
     for (k, alpha) in [0.1f32, 0.4].into_iter().enumerate() {
         let (scene, c, r) = glossy_scene(alpha);
         let exact = quadrature_reference(&scene, c, r, wo);
-        let hit = shading_hit(0, Vec3::ZERO, Vec3::Y);
+        let hit = shading_hit(picomis::ShapeId::new(0), Vec3::ZERO, Vec3::Y);
         for (j, spheres) in [SphereSampling::Area, SphereSampling::Cone].into_iter().enumerate() {
             for kind in SamplerKind::ALL {
                 for (i, (name, method)) in methods().into_iter().enumerate() {
@@ -500,7 +500,7 @@ fn furnace_bsdf_sampling_is_exact_at_the_floor_centre() {
     // The furnace through estimate_direct at the exact centre of the floor: every BSDF sample
     // returns rho Le, and light sampling contributes nothing under BsdfOnly.
     let scene = furnace();
-    let hit = shading_hit(0, Vec3::ZERO, Vec3::Y);
+    let hit = shading_hit(picomis::ShapeId::new(0), Vec3::ZERO, Vec3::Y);
     let st = direct_stats(&scene, &settings(Method::BsdfOnly, 1, 1), &hit, Vec3::Y, 9000, 20_000);
     let exact = f64::from(ALBEDO.x) * f64::from(FURNACE_LE.x);
     assert_unbiased("furnace BSDF only at the floor centre", &st.total.0[0], exact, MAX_REL_STDERR);

@@ -75,9 +75,10 @@ impl RegionMap {
         let objects = scene.objects();
         // (object, alpha) of the plates; (object, centre, radius) of the sphere lights.
         let mut plates: Vec<(usize, f32)> = (0..objects.len())
-            .filter_map(|i| match scene.material(i) {
+            .filter_map(|i| match scene.material(ShapeId::new(i as u16)) {
                 Some(Material::GgxConductor { alpha, .. })
-                    if objects[i].shape.as_sphere().is_none() && scene.emitter(i).is_none() =>
+                    if objects[i].shape.as_sphere().is_none()
+                        && scene.emitter(ShapeId::new(i as u16)).is_none() =>
                 {
                     Some((i, *alpha))
                 }
@@ -91,7 +92,7 @@ impl RegionMap {
             .enumerate()
             .filter_map(|(li, l)| match l {
                 Light::Area { shape, .. } => {
-                    objects.get(usize::from(*shape))?.shape.as_sphere().map(|(c, r)| (li, c, r))
+                    objects.get(shape.index())?.shape.as_sphere().map(|(c, r)| (li, c, r))
                 }
                 Light::Point { .. } => None,
             })
@@ -148,7 +149,9 @@ impl RegionMap {
                 let uv = Vec2::new((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
                 let (ray, t_near) = scene.camera().ray(uv);
                 let Some(hit) = scene.intersect(&ray, t_near, f32::INFINITY, None) else { continue };
-                let Some(plate) = plate_objects.iter().position(|&o| o == hit.object) else { continue };
+                let Some(plate) = plate_objects.iter().position(|&o| o == hit.object.index()) else {
+                    continue;
+                };
                 let nearest = regions
                     .iter()
                     .enumerate()
@@ -206,7 +209,10 @@ pub fn isolate<const S: usize, const L: usize, const M: usize>(
     let mut shapes: Vec<ShapeId> = Vec::new();
     for (i, o) in scene.objects().iter().enumerate() {
         // Materials are values: the first equal one is as good as the original.
-        let m = scene.material(i).and_then(|m| scene.materials().iter().position(|x| x == m)).unwrap_or(0);
+        let m = scene
+            .material(ShapeId::new(i as u16))
+            .and_then(|m| scene.materials().iter().position(|x| x == m))
+            .unwrap_or(0);
         let id = *materials.get(m).ok_or(SceneError::UnknownMaterial)?;
         shapes.push(out.add_shape(o.shape, id)?);
     }
@@ -214,7 +220,7 @@ pub fn isolate<const S: usize, const L: usize, const M: usize>(
         let on = li == keep;
         match *light {
             Light::Area { shape, radiance } => {
-                let id = *shapes.get(usize::from(shape)).ok_or(SceneError::UnknownMaterial)?;
+                let id = *shapes.get(shape.index()).ok_or(SceneError::UnknownMaterial)?;
                 out.add_area_light(id, if on { radiance } else { Rgb::ZERO })?;
             }
             Light::Point { position, intensity } => {
