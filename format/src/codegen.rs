@@ -110,10 +110,11 @@ pub(crate) fn module(s: &SceneFile) -> String {
     let _ = writeln!(o, "pub fn settings() -> Result<picomis::RenderSettings, picomis::SceneError> {{");
     let _ = writeln!(
         o,
-        "    picomis::RenderSettings::new({}, {}, {}, 1, 0)",
+        "    Ok(picomis::RenderSettings::new({}, {}, {}, 1, 0)?.with_sampler(picomis::SamplerKind::{:?}))",
         method(s.method),
         s.light_samples,
-        s.bsdf_samples
+        s.bsdf_samples,
+        s.sampler
     );
     if let picomis::MisModel::One { c_light } = s.model {
         let _ = writeln!(

@@ -96,6 +96,9 @@ struct IntegratorDesc {
     /// The cutoff heuristic's threshold (default: the kernel's).
     #[serde(default)]
     alpha: Option<f32>,
+    /// Sample stream (`SamplerKind::name`); the kernel's default when absent.
+    #[serde(default)]
+    sampler: Option<String>,
     /// `multi` (default) or `one`: the MIS sampling model.
     #[serde(default = "default_mis_model")]
     mis_model: String,
@@ -278,6 +281,13 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
     picomis::RenderSettings::new(method, ig.emitter_samples, ig.bsdf_samples, 1, 0)
         .and_then(|s| s.with_mis_model(model))
         .map_err(|e| kernel("integrator", e))?;
+    let sampler = match ig.sampler.as_deref() {
+        None => picomis::SamplerKind::default(),
+        Some(name) => picomis::SamplerKind::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = picomis::SamplerKind::ALL.iter().map(|k| k.name()).collect();
+            fail("integrator.sampler", format!("unknown sampler {name:?} (expected {})", names.join(" or ")))
+        })?,
+    };
 
     let mut steps = Vec::new();
     let mut material_index = BTreeMap::new();
@@ -363,6 +373,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
         camera,
         method,
         model,
+        sampler,
         light_samples: ig.emitter_samples,
         bsdf_samples: ig.bsdf_samples,
         steps,

@@ -21,8 +21,8 @@ use std::path::Path;
 pub use catalog::builtins_rust;
 
 use picomis::{
-    Camera, CameraDesc, Collection, Film, Material, Method, MisModel, RenderSettings, Rgb, Scene, SceneError,
-    Shape, Vec3,
+    Camera, CameraDesc, Collection, Film, Material, Method, MisModel, RenderSettings, Rgb, SamplerKind,
+    Scene, SceneError, Shape, Vec3,
 };
 
 /// Why a scene file could not be loaded: which file, which entry, and why.
@@ -89,6 +89,7 @@ pub struct SceneFile {
     camera: CameraDesc,
     method: Method,
     model: MisModel,
+    sampler: SamplerKind,
     light_samples: u16,
     bsdf_samples: u16,
     steps: Vec<Step>,
@@ -191,7 +192,13 @@ impl SceneFile {
     pub fn default_settings(&self) -> Result<RenderSettings, LoadError> {
         RenderSettings::new(self.method, self.light_samples, self.bsdf_samples, 1, 0)
             .and_then(|s| s.with_mis_model(self.model))
+            .map(|s| s.with_sampler(self.sampler))
             .map_err(|e| self.error("integrator", e))
+    }
+
+    /// The sample stream of the integrator block.
+    pub fn default_sampler(&self) -> SamplerKind {
+        self.sampler
     }
 
     /// The default method of the integrator block.

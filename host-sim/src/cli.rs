@@ -6,7 +6,7 @@ use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand, ValueEnum};
 use picomis::{
     ControlVariate, Film, Heuristic, LightSelection, Method, MisModel, QuadSampling, RenderSettings,
-    SphereSampling,
+    SamplerKind, SphereSampling,
 };
 use picomis_format::parse_mis_model;
 
@@ -140,6 +140,10 @@ pub struct RenderArgs {
     /// Carlo for the shadows only.
     #[arg(long, value_enum, default_value_t = OnOff::Off)]
     pub control_variate: OnOff,
+    /// Sample stream: sobol (padded Owen-scrambled Sobol) or independent (default: the scene's
+    /// integrator block, else sobol).
+    #[arg(long, value_name = "S", value_parser = sampler_parser())]
+    pub sampler: Option<SamplerKind>,
     /// Seed: the same seed gives the same image, on any number of threads.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -213,6 +217,7 @@ impl ExtrasArgs {
                 OnOff::On => ControlVariate::On,
                 OnOff::Off => ControlVariate::Off,
             },
+            ..crate::study::Extras::default()
         })
     }
 }
@@ -264,6 +269,13 @@ fn default_out(name: &str, suffix: &str) -> PathBuf {
 fn method_parser() -> impl TypedValueParser<Value = Method> {
     let names = Method::ALL.map(|m| PossibleValue::new(m.name()).help(m.summary()));
     PossibleValuesParser::new(names).try_map(|name| Method::from_name(&name).map_err(|e| e.to_string()))
+}
+
+/// The `--sampler` value parser: the kernel's sample streams.
+fn sampler_parser() -> impl TypedValueParser<Value = SamplerKind> {
+    let names = SamplerKind::ALL.map(|k| PossibleValue::new(k.name()));
+    PossibleValuesParser::new(names)
+        .try_map(|name| SamplerKind::from_name(&name).ok_or_else(|| format!("unknown sampler {name:?}")))
 }
 
 /// The method with its parameter, as the render line shows it.
@@ -358,11 +370,13 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
     let model = parse_mis_model(model_name, c_light)
         .map_err(|e| usage(format!("--mis-model {model_name} --c-light {c_light}: {e}")))?;
     let settings = settings.with_mis_model(model).map_err(|e| usage(format!("--c-light {c_light}: {e}")))?;
+    let sampler = args.sampler.unwrap_or(loaded.file.default_sampler());
     Ok(settings
         .with_sphere_sampling(spheres)
         .with_light_selection(selection)
         .with_quad_sampling(quads)
-        .with_control_variate(control_variate))
+        .with_control_variate(control_variate)
+        .with_sampler(sampler))
 }
 
 /// The film from the scene and `--width` / `--height`.

@@ -1,7 +1,8 @@
 //! `picomis-sim study`: speed against accuracy (MIS-NOTES section 6).
 //!
 //! For each scene and each method (BSDF sampling alone; light sampling alone with sphere lights
-//! sampled by area and by cone; the average, balance, power, maximum and cutoff heuristics), the
+//! sampled by area and by cone; the average, balance, power, maximum and cutoff heuristics; all
+//! with the default sample stream, and the power heuristic again with independent numbers), the
 //! study renders a ladder of samples per pixel (1, 2, 4, ... up to `--max-spp`) with several
 //! seeds, times each render on all cores, and measures its error against a converged reference
 //! (balance heuristic, cone sampling, many samples; cached as EXR under `DIR/cache`). It writes
@@ -28,8 +29,8 @@ use std::time::Instant;
 
 use indicatif::ProgressBar;
 use picomis::{
-    ControlVariate, Estimate, Film, Heuristic, Method, MisModel, QuadSampling, RenderSettings, Rgb, Scene,
-    SphereSampling, render_pixel,
+    ControlVariate, Estimate, Film, Heuristic, LightSelection, Method, MisModel, QuadSampling,
+    RenderSettings, Rgb, SamplerKind, Scene, SphereSampling, render_pixel,
 };
 use rayon::prelude::*;
 
@@ -83,13 +84,17 @@ pub struct StudyMethod {
     pub method: Method,
     /// How sphere lights are sampled.
     pub spheres: SphereSampling,
-    /// Beyond the lecture: MIS model, quad sampling, control variate.
+    /// Everything else: sample stream, light selection, and what goes beyond the lecture.
     pub extras: Extras,
 }
 
-/// What a study method adds to the seed's estimator (issue 14).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// What a study method sets besides its combination and sphere sampling.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Extras {
+    /// The sample stream.
+    pub sampler: SamplerKind,
+    /// How a light is chosen among several.
+    pub selection: LightSelection,
     /// The MIS model.
     pub model: MisModel,
     /// How quad lights are sampled.
@@ -98,105 +103,84 @@ pub struct Extras {
     pub control_variate: ControlVariate,
 }
 
+impl Default for Extras {
+    /// The default sample stream, uniform light selection (the Veach region study needs it),
+    /// and the lecture's estimator.
+    fn default() -> Self {
+        Extras {
+            sampler: SamplerKind::default(),
+            selection: LightSelection::Uniform,
+            model: MisModel::default(),
+            quads: QuadSampling::default(),
+            control_variate: ControlVariate::default(),
+        }
+    }
+}
+
 impl Extras {
     /// `settings` with these options.
     pub fn apply(&self, settings: RenderSettings) -> Result<RenderSettings, picomis::SceneError> {
         Ok(settings
+            .with_sampler(self.sampler)
+            .with_light_selection(self.selection)
             .with_mis_model(self.model)?
             .with_quad_sampling(self.quads)
             .with_control_variate(self.control_variate))
     }
 }
 
-/// The methods of the study, in the seed's order. The heuristics sample sphere lights by cone.
+/// The methods of the study, in the seed's order, with the default sample stream (sobol) and
+/// uniform light selection; then the power heuristic with independent random numbers (what the
+/// stratified stream gains). The heuristics sample sphere lights by cone. (Every method keeps
+/// uniform selection: the Veach region study renders each light alone, which leaves the
+/// selection probabilities unchanged only under uniform selection.)
 pub fn study_methods() -> Vec<StudyMethod> {
     let m = |name: &str| Method::from_name(name).expect("the kernel's method names");
-    let cone = SphereSampling::Cone;
+    let (cone, area) = (SphereSampling::Cone, SphereSampling::Area);
+    let study = |label, title, method, spheres| StudyMethod {
+        label,
+        title,
+        method,
+        spheres,
+        extras: Extras::default(),
+    };
     vec![
+        study("bsdf", "BSDF sampling", m("bsdf"), cone),
+        study("light_area", "light sampling (area)", m("light"), area),
+        study("light_cone", "light sampling (cone)", m("light"), cone),
+        study("average", "average", m("average"), cone),
+        study("balance", "balance", m("balance"), cone),
+        study("power", "power (\u{3b2} = 2)", m("power"), cone),
+        study("maximum", "maximum", m("maximum"), cone),
+        study("cutoff", "cutoff (\u{3b1} = 0.1)", m("cutoff"), cone),
+        // The sample stream: what the stratified default gains over independent numbers.
         StudyMethod {
-            label: "bsdf",
-            title: "BSDF sampling",
-            method: m("bsdf"),
-            spheres: cone,
-            extras: Extras::default(),
+            extras: Extras { sampler: SamplerKind::Independent, ..Extras::default() },
+            ..study("power_independent", "power, independent numbers", m("power"), cone)
         },
+        // Beyond the lecture, each against balance.
         StudyMethod {
-            label: "light_area",
-            title: "light sampling (area)",
-            method: m("light"),
-            spheres: SphereSampling::Area,
-            extras: Extras::default(),
-        },
-        StudyMethod {
-            label: "light_cone",
-            title: "light sampling (cone)",
-            method: m("light"),
-            spheres: cone,
-            extras: Extras::default(),
-        },
-        StudyMethod {
-            label: "average",
-            title: "average",
-            method: m("average"),
-            spheres: cone,
-            extras: Extras::default(),
-        },
-        StudyMethod {
-            label: "balance",
-            title: "balance",
-            method: m("balance"),
-            spheres: cone,
-            extras: Extras::default(),
-        },
-        StudyMethod {
-            label: "power",
-            title: "power (\u{3b2} = 2)",
-            method: m("power"),
-            spheres: cone,
-            extras: Extras::default(),
-        },
-        StudyMethod {
-            label: "maximum",
-            title: "maximum",
-            method: m("maximum"),
-            spheres: cone,
-            extras: Extras::default(),
-        },
-        StudyMethod {
-            label: "cutoff",
-            title: "cutoff (\u{3b1} = 0.1)",
-            method: m("cutoff"),
-            spheres: cone,
-            extras: Extras::default(),
-        },
-        // Beyond the lecture (issue 14), each against balance.
-        StudyMethod {
-            label: "one_balance",
-            title: "one-sample balance (c = 0.5)",
-            method: m("balance"),
-            spheres: cone,
             extras: Extras { model: MisModel::One { c_light: 0.5 }, ..Extras::default() },
+            ..study("one_balance", "one-sample balance (c = 0.5)", m("balance"), cone)
         },
         StudyMethod {
-            label: "balance_sa",
-            title: "balance, quads by solid angle",
-            method: m("balance"),
-            spheres: cone,
             extras: Extras { quads: QuadSampling::SolidAngle, ..Extras::default() },
+            ..study("balance_sa", "balance, quads by solid angle", m("balance"), cone)
         },
         StudyMethod {
-            label: "balance_cv",
-            title: "balance + control variate",
-            method: m("balance"),
-            spheres: cone,
             extras: Extras { control_variate: ControlVariate::On, ..Extras::default() },
+            ..study("balance_cv", "balance + control variate", m("balance"), cone)
         },
     ]
 }
 
-/// Index in [`study_methods`] of `method` with sphere lights sampled by `spheres` (0 if absent).
+/// Index in [`study_methods`] of `method` with sphere lights sampled by `spheres`, the default
+/// sample stream and uniform light selection (0 if absent).
 pub fn index_of(method: Method, spheres: SphereSampling) -> usize {
-    study_methods().iter().position(|m| m.method == method && m.spheres == spheres).unwrap_or(0)
+    study_methods()
+        .iter()
+        .position(|m| m.method == method && m.spheres == spheres && m.extras == Extras::default())
+        .unwrap_or(0)
 }
 
 /// Index of the balance heuristic in [`study_methods`] (the baseline of every ratio).

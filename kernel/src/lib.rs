@@ -42,6 +42,7 @@
 // `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod accel;
 pub mod analytic;
 pub mod camera;
 pub mod colormap;
@@ -50,6 +51,7 @@ pub mod error;
 pub mod estimator;
 pub mod ids;
 pub mod light;
+pub mod light_importance;
 pub mod light_sampler;
 pub mod material;
 pub mod math;
@@ -80,7 +82,7 @@ pub use math::{Rgb, Vec2, Vec3};
 pub use mis::{Heuristic, Method, ParseMethodError, Technique, UnknownMethod};
 pub use model::MisModel;
 pub use render::{RenderStats, camera_sample, film_rect, render, render_pixel, render_tile, tiles, tone_map};
-pub use rng::Sampler;
+pub use rng::{Sampler, SamplerKind};
 pub use scene::{Hit, Object, Scene};
 pub use settings::{ControlVariate, RenderSettings};
 pub use shape::{Ray, Shape, SurfacePoint};

@@ -1,6 +1,6 @@
 //! Rendering: one pixel as an HDR estimate, or a tile or whole image into any
 //! `embedded-graphics` [`DrawTarget`]. Pixel (x, y), camera sample s draws its random numbers
-//! from `Sampler::new(seed, y * width + x, s)`: images are independent of tile order and threads.
+//! from `Sampler::with_kind(sampler, seed, y * width + x, s)`: images are independent of tile order and threads.
 
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{Point, Size};
@@ -47,7 +47,8 @@ pub fn camera_sample<const S: usize, const L: usize, const M: usize>(
     index: u32,
 ) -> Estimate {
     let film = scene.film();
-    let mut sampler = Sampler::new(settings.seed(), y.wrapping_mul(film.width()).wrapping_add(x), index);
+    let pixel = y.wrapping_mul(film.width()).wrapping_add(x);
+    let mut sampler = Sampler::with_kind(settings.sampler(), settings.seed(), pixel, index);
     let jitter = sampler.next_2d();
     let uv =
         Vec2::new((x as f32 + jitter.x) / film.width() as f32, (y as f32 + jitter.y) / film.height() as f32);

@@ -6,6 +6,7 @@
 
 use heapless::Vec;
 
+use crate::accel::{self, Filter, Packets};
 use crate::camera::{Camera, CameraDesc, Film};
 use crate::error::{Collection, SceneError};
 use crate::ids::{LightId, MaterialId, ShapeId};
@@ -43,6 +44,8 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     camera: Camera,
     film: Film,
     objects: Vec<Object, S>,
+    /// The shapes again, four to a packet, for ray queries (hosted targets only).
+    packets: Packets<S>,
     materials: Vec<Material, M>,
     lights: Vec<Light, L>,
     light_power: Vec<f32, L>,
@@ -60,6 +63,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             camera: Camera::new(camera, film)?,
             film,
             objects: Vec::new(),
+            packets: Packets::default(),
             materials: Vec::new(),
             lights: Vec::new(),
             light_power: Vec::new(),
@@ -90,6 +94,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         self.objects
             .push(Object { shape, material, light: None })
             .map_err(|_| SceneError::CapacityExceeded(Collection::Shapes))?;
+        self.packets.push(usize::from(id), &shape);
         Ok(ShapeId::new(id))
     }
 
@@ -105,6 +110,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         if let Some(object) = self.objects.get_mut(shape.index()) {
             object.light = Some(id);
         }
+        self.packets.set_emitter(shape.index());
         Ok(id)
     }
 
@@ -183,6 +189,10 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, skip: Option<ShapeId>) -> Option<Hit> {
         let skip = skip.map_or(usize::MAX, ShapeId::index);
+        if accel::ENABLED {
+            let (t, i) = self.packets.nearest(ray, t_min, t_max, Filter::AllBut(skip), |i| self.shape(i))?;
+            return self.hit(ray, t, i);
+        }
         let (mut t_far, mut best) = (t_max, usize::MAX);
         for (i, o) in self.objects.iter().enumerate() {
             if i != skip {
@@ -193,6 +203,12 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             }
         }
         self.hit(ray, t_far, best)
+    }
+
+    /// The shape of object `object`.
+    #[inline]
+    fn shape(&self, object: usize) -> Option<&Shape> {
+        self.objects.get(object).map(|o| &o.shape)
     }
 
     /// The [`Hit`] record for object `object` at distance `t` along `ray`.
@@ -213,11 +229,16 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     pub fn emitter_hit(&self, ray: &Ray, skip: ShapeId) -> Option<(Hit, LightId, Rgb)> {
         let skip = skip.index();
         let (mut t_far, mut best) = (f32::INFINITY, usize::MAX);
-        for (i, o) in self.objects.iter().enumerate() {
-            if o.light.is_some() && i != skip {
-                if let Some(t) = o.shape.intersect(ray, 0.0, t_far) {
-                    t_far = t;
-                    best = i;
+        if accel::ENABLED {
+            let shape = |i| self.shape(i);
+            (t_far, best) = self.packets.nearest(ray, 0.0, t_far, Filter::EmittersBut(skip), shape)?;
+        } else {
+            for (i, o) in self.objects.iter().enumerate() {
+                if o.light.is_some() && i != skip {
+                    if let Some(t) = o.shape.intersect(ray, 0.0, t_far) {
+                        t_far = t;
+                        best = i;
+                    }
                 }
             }
         }
@@ -226,9 +247,15 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             return None; // the back of an emitter: it emits nothing this way
         }
         // Anything else in front of it? (Emitters were already compared above.)
-        for (i, o) in self.objects.iter().enumerate() {
-            if o.light.is_none() && i != skip && o.shape.intersect(ray, 0.0, t_far).is_some() {
+        if accel::ENABLED {
+            if self.packets.any(ray, 0.0, t_far, Filter::OthersBut(skip), |i| self.shape(i)) {
                 return None;
+            }
+        } else {
+            for (i, o) in self.objects.iter().enumerate() {
+                if o.light.is_none() && i != skip && o.shape.intersect(ray, 0.0, t_far).is_some() {
+                    return None;
+                }
             }
         }
         let light = self.objects.get(best)?.light?;
@@ -261,6 +288,9 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     #[inline]
     pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: ShapeId, b: Option<ShapeId>) -> bool {
         let (a, b) = (a.index(), b.map_or(usize::MAX, ShapeId::index));
+        if accel::ENABLED {
+            return !self.packets.any(ray, 0.0, t_max, Filter::AllButTwo(a, b), |i| self.shape(i));
+        }
         for (i, o) in self.objects.iter().enumerate() {
             if i != a && i != b && o.shape.intersect(ray, 0.0, t_max).is_some() {
                 return false;

@@ -4,6 +4,7 @@ use crate::error::{Field, SceneError};
 use crate::light_sampler::{LightSelection, QuadSampling, SphereSampling};
 use crate::mis::Method;
 use crate::model::MisModel;
+use crate::rng::SamplerKind;
 
 /// Validated settings for one render. A seed fully determines the image.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -19,6 +20,7 @@ pub struct RenderSettings {
     model: MisModel,
     quads: QuadSampling,
     control_variate: ControlVariate,
+    sampler: SamplerKind,
 }
 
 /// Whether the unoccluded light reaching a Lambertian receiver is computed in closed form, with
@@ -62,6 +64,7 @@ impl RenderSettings {
             model: MisModel::default(),
             quads: QuadSampling::default(),
             control_variate: ControlVariate::default(),
+            sampler: SamplerKind::default(),
         })
     }
 
@@ -96,6 +99,12 @@ impl RenderSettings {
     /// The same settings with another light-selection strategy.
     pub fn with_light_selection(mut self, selection: LightSelection) -> Self {
         self.selection = selection;
+        self
+    }
+
+    /// The same settings with another sample stream.
+    pub fn with_sampler(mut self, sampler: SamplerKind) -> Self {
+        self.sampler = sampler;
         self
     }
 
@@ -166,6 +175,10 @@ impl RenderSettings {
     /// The analytic control variate.
     pub fn control_variate(&self) -> ControlVariate {
         self.control_variate
+    }
+    /// Sample stream.
+    pub fn sampler(&self) -> SamplerKind {
+        self.sampler
     }
 }
 

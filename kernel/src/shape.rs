@@ -70,6 +70,14 @@ pub struct Rectangle {
     pub lengths: Vec2,
 }
 
+impl Quad {
+    /// Unit normal, plane offset `n . p0`, corner `p0`, and the dual axes.
+    #[cfg_attr(target_os = "none", allow(dead_code))]
+    pub(crate) fn parts(&self) -> (Vec3, f32, Vec3, Vec3, Vec3) {
+        (self.n, self.plane, self.p0, self.s_axis, self.t_axis)
+    }
+}
+
 /// The closed set of shapes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
@@ -249,6 +257,15 @@ impl Shape {
         match self {
             Shape::Sphere(_) => None,
             Shape::Quad(q) => Some([q.p0, q.p0 + q.e1, q.p0 + q.e1 + q.e2, q.p0 + q.e2]),
+        }
+    }
+
+    /// Radius of a sphere around [`Shape::centroid`] that holds the shape.
+    #[inline]
+    pub fn bounding_radius(&self) -> f32 {
+        match self {
+            Shape::Sphere(s) => s.radius,
+            Shape::Quad(q) => 0.5 * (q.e1 + q.e2).length().max((q.e1 - q.e2).length()),
         }
     }
 

@@ -737,8 +737,9 @@ pub fn shading_hit(object: ShapeId, p: Vec3, n: Vec3) -> Hit {
     Hit { t: 1.0, object, point: SurfacePoint { p, n }, front: true }
 }
 
-/// `n` independent direct-lighting estimates at `hit` towards `wo` (estimate i draws from
-/// `Sampler::new(seed, stream, i)`), as running statistics of the total radiance and of the
+/// `n` direct-lighting estimates at `hit` towards `wo` (estimate i draws from the settings'
+/// sample stream for (seed, pixel `stream`, sample i): independent for the independent stream,
+/// one scrambled Sobol sequence for sobol, whose mean then varies less than independent ones'), as running statistics of the total radiance and of the
 /// light- and BSDF-technique parts, with the number of estimates whose output (contributions or
 /// weight sums) was not finite and how many samples of each technique found light.
 pub fn direct_stats<const S: usize, const L: usize, const M: usize>(
@@ -751,7 +752,7 @@ pub fn direct_stats<const S: usize, const L: usize, const M: usize>(
 ) -> DirectStats {
     let mut out = DirectStats::default();
     for i in 0..n {
-        let mut sampler = Sampler::new(settings.seed(), stream, i);
+        let mut sampler = Sampler::with_kind(settings.sampler(), settings.seed(), stream, i);
         let (light, bsdf) = estimate_direct(scene, settings, hit, wo, &mut sampler);
         let finite = |t: &TechniqueEstimate| {
             t.contribution.is_finite() && t.weight_sum.is_finite() && t.weight_sum >= 0.0
@@ -778,7 +779,7 @@ pub fn trace_stats<const S: usize, const L: usize, const M: usize>(
 ) -> RgbStats {
     let mut out = RgbStats::default();
     for i in 0..n {
-        let mut sampler = Sampler::new(settings.seed(), stream, i);
+        let mut sampler = Sampler::with_kind(settings.sampler(), settings.seed(), stream, i);
         out.push(trace(scene, settings, ray, 0.0, &mut sampler).radiance());
     }
     out

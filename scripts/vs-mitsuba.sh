@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# picomis against Mitsuba 3 on the Veach scene at equal spp: relative MSE, render time and
+# efficiency 1 / (relMSE x s) of picomis (its default, best sampler) and of every Mitsuba sampler
+# (independent, stratified, multijitter, ldsampler at 64 spp; orthogonal at 121), interleaved,
+# 3 rounds. Prints the table and writes docs/vs-mitsuba.md. A benchmark, not a test.
+#
+# Installs what it needs: Mitsuba 3 (PyPI) in a venv under target/vs-mitsuba/, and Debian's
+# libllvm19 for Mitsuba's llvm_ad_rgb variant (apt-get, as root).
+#
+# Usage: scripts/vs-mitsuba.sh [extra compare.py flags, e.g. --rounds 5
+#        --picomis-config "sobol=--sampler sobol" --picomis-config "pcg=--sampler independent"]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+work=$root/target/vs-mitsuba
+venv=$work/venv
+
+llvm=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1
+if [ ! -e "$llvm" ]; then
+    if [ "$(id -u)" = 0 ]; then
+        apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q libllvm19
+    else
+        echo "error: $llvm missing: install Debian's libllvm19 (as root)" >&2
+        exit 1
+    fi
+fi
+if [ ! -x "$venv/bin/python" ]; then
+    python3 -m venv "$venv"
+fi
+"$venv/bin/python" -c "import mitsuba, numpy" 2>/dev/null || "$venv/bin/pip" install -q mitsuba numpy
+
+cargo build --release -q -p picomis-sim
+DRJIT_LIBLLVM_PATH=$llvm "$venv/bin/python" scripts/vs-mitsuba/compare.py \
+    --picomis "$root/target/release/picomis-sim" \
+    --xml scripts/vs-mitsuba/veach_mis.xml \
+    --json scenes/veach_mis.json \
+    --reference host-sim/tests/data/veach_mis.ref.exr \
+    --work "$work/renders" \
+    --out docs/vs-mitsuba.md \
+    "$@"
