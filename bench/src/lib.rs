@@ -237,6 +237,6 @@ mod tests {
             let (ray, _) = s.camera().ray(picomis::Vec2::new(i, j));
             assert!(s.intersect(&ray, 0.0, f32::INFINITY, None).is_none_or(|h| h.object.index() == 0));
         }
-        assert_eq!(methods().len(), 8);
+        assert!(methods().iter().any(|m| m.label == "balance"), "the study's baseline is benchmarked");
     }
 }
