@@ -8,13 +8,17 @@
 //! Short run (part of the test command): the default case counts below. Long run:
 //! `PICOMIS_FUZZ_CASES=200000 cargo test --release -p picomis-format --test fuzz -- --nocapture`.
 
-use picomis::{Heuristic, Method, RenderSettings, SphereSampling, render_pixel};
+mod common;
+
+use common::{apply, byte_edit, cases, runner};
 use picomis_format::SceneFile;
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use serde_json::Value;
 use std::sync::atomic::{AtomicU32, Ordering};
+
+/// Bytes of the JSON syntax that byte edits insert.
+const JSON_BYTES: &[u8] = b"{}[]\",:-.eE0123456789 ntfu\\";
 
 /// Inputs accepted (and rendered) so far, per test: a fuzzer that only ever sees rejected
 /// inputs would be vacuous.
@@ -23,18 +27,6 @@ static ACCEPTED: [AtomicU32; 3] = [AtomicU32::new(0), AtomicU32::new(0), AtomicU
 /// The built-in scenes: (name, text).
 fn scenes() -> Vec<(&'static str, &'static str)> {
     picomis_builtins::BUILTINS.iter().map(|b| (b.name, b.json)).collect()
-}
-
-fn cases(default: u32) -> u32 {
-    std::env::var("PICOMIS_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(default)
-}
-
-/// A runner drawing `cases` inputs from a fixed ChaCha seed: CI runs the same inputs every time
-/// (the long, coverage-guided search is `scripts/fuzz.sh`).
-fn runner(cases: u32) -> TestRunner {
-    let config =
-        Config { cases, failure_persistence: None, rng_algorithm: RngAlgorithm::ChaCha, ..Config::default() };
-    TestRunner::new_with_rng(config, TestRng::from_seed(RngAlgorithm::ChaCha, &[0xF2; 32]))
 }
 
 #[test]
@@ -60,32 +52,7 @@ fn check(text: &str, tally: usize) -> Result<(), TestCaseError> {
             if let Some(t) = ACCEPTED.get(tally) {
                 t.fetch_add(1, Ordering::Relaxed);
             }
-            let c = scene.counts();
-            if c.shapes > 64 || c.lights > 64 || c.materials > 64 {
-                prop_assert!(scene.build::<64, 64, 64>().is_err());
-                return Ok(());
-            }
-            let film = picomis::Film::new(4, 3).map_err(|e| TestCaseError::fail(e.to_string()))?;
-            let built = scene.build_with_film::<64, 64, 64>(film);
-            let built =
-                built.map_err(|e| TestCaseError::fail(format!("valid scene failed to build: {e}")))?;
-            for (method, spheres) in [
-                (Method::Mis(Heuristic::Power { beta: 2.0 }), SphereSampling::Cone),
-                (Method::Mis(Heuristic::Balance), SphereSampling::Area),
-                (Method::BsdfOnly, SphereSampling::Cone),
-            ] {
-                let settings = RenderSettings::new(method, 1, 1, 2, 3)
-                    .map_err(|e| TestCaseError::fail(e.to_string()))?
-                    .with_sphere_sampling(spheres);
-                for (x, y) in [(0, 0), (2, 1), (3, 2)] {
-                    let e = render_pixel(&built, &settings, x, y);
-                    prop_assert!(
-                        e.radiance().is_finite(),
-                        "non-finite pixel {} in an accepted scene",
-                        e.radiance()
-                    );
-                }
-            }
+            common::renders_finite(&scene)?;
         }
     }
     Ok(())
@@ -102,56 +69,11 @@ fn arbitrary_bytes_never_panic() {
     println!("fuzz: {n} arbitrary inputs tried, {} accepted", ACCEPTED[0].load(Ordering::Relaxed));
 }
 
-#[derive(Clone, Debug)]
-enum ByteEdit {
-    Flip(usize, u8),
-    Insert(usize, u8),
-    Delete(usize, usize),
-    Splice(usize, usize, usize),
-}
-
-fn byte_edit() -> impl Strategy<Value = ByteEdit> {
-    prop_oneof![
-        (any::<usize>(), any::<u8>()).prop_map(|(i, b)| ByteEdit::Flip(i, b)),
-        (any::<usize>(), prop::sample::select(b"{}[]\",:-.eE0123456789 ntfu\\".to_vec()))
-            .prop_map(|(i, b)| ByteEdit::Insert(i, b)),
-        (any::<usize>(), 1usize..64).prop_map(|(i, n)| ByteEdit::Delete(i, n)),
-        (any::<usize>(), any::<usize>(), 1usize..128).prop_map(|(a, b, n)| ByteEdit::Splice(a, b, n)),
-    ]
-}
-
-fn apply(text: &str, edits: &[ByteEdit]) -> String {
-    let mut b = text.as_bytes().to_vec();
-    for e in edits {
-        let len = b.len().max(1);
-        match *e {
-            ByteEdit::Flip(i, x) => {
-                if let Some(v) = b.get_mut(i % len) {
-                    *v ^= x;
-                }
-            }
-            ByteEdit::Insert(i, x) => b.insert((i % len).min(b.len()), x),
-            ByteEdit::Delete(i, n) => {
-                let start = (i % len).min(b.len());
-                let end = (start + n).min(b.len());
-                b.drain(start..end);
-            }
-            ByteEdit::Splice(from, to, n) => {
-                let start = (from % len).min(b.len());
-                let chunk: Vec<u8> = b[start..(start + n).min(b.len())].to_vec();
-                let at = (to % len).min(b.len());
-                b.splice(at..at, chunk);
-            }
-        }
-    }
-    String::from_utf8_lossy(&b).into_owned()
-}
-
 #[test]
 fn byte_mutations_of_builtin_scenes_never_panic() {
     let n = cases(3000);
     let scenes = scenes();
-    let strategy = (0..scenes.len(), proptest::collection::vec(byte_edit(), 1..6));
+    let strategy = (0..scenes.len(), proptest::collection::vec(byte_edit(JSON_BYTES, 128), 1..6));
     runner(n).run(&strategy, |(i, edits)| check(&apply(scenes[i].1, &edits), 1)).unwrap();
     let accepted = ACCEPTED[1].load(Ordering::Relaxed);
     println!("fuzz: {n} byte-mutated scenes tried, {accepted} accepted and rendered");

@@ -12,10 +12,14 @@
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use picomis::{Film, Heuristic, Method, RenderSettings, SphereSampling, render_pixel};
+mod common;
+
+use common::{apply, byte_edit, cases, runner};
 use picomis_format::{SceneFile, mitsuba};
 use proptest::prelude::*;
-use proptest::test_runner::{Config, TestRunner};
+
+/// Bytes of the XML syntax that byte edits insert.
+const XML_BYTES: &[u8] = b"<>/=\"'$&;-.eE0123456789 ,xyz";
 
 static ACCEPTED: [AtomicU32; 3] = [AtomicU32::new(0), AtomicU32::new(0), AtomicU32::new(0)];
 
@@ -35,14 +39,6 @@ fn seeds() -> Vec<String> {
     v
 }
 
-fn cases(default: u32) -> u32 {
-    std::env::var("PICOMIS_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(default)
-}
-
-fn runner(cases: u32) -> TestRunner {
-    TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() })
-}
-
 /// Imports; on success loads, builds and renders a few pixels at a tiny resolution.
 fn check(text: &str, tally: usize) -> Result<(), TestCaseError> {
     match mitsuba::import(text, "fuzz.xml", "fuzz") {
@@ -55,31 +51,7 @@ fn check(text: &str, tally: usize) -> Result<(), TestCaseError> {
             ACCEPTED[tally].fetch_add(1, Ordering::Relaxed);
             let scene =
                 SceneFile::parse(&json, "fuzz.json").map_err(|e| TestCaseError::fail(e.to_string()))?;
-            let c = scene.counts();
-            if c.shapes > 64 || c.lights > 64 || c.materials > 64 {
-                prop_assert!(scene.build::<64, 64, 64>().is_err());
-                return Ok(());
-            }
-            let film = Film::new(4, 3).map_err(|e| TestCaseError::fail(e.to_string()))?;
-            let built = scene
-                .build_with_film::<64, 64, 64>(film)
-                .map_err(|e| TestCaseError::fail(format!("accepted scene failed to build: {e}")))?;
-            for (method, spheres) in [
-                (Method::Mis(Heuristic::Power { beta: 2.0 }), SphereSampling::Cone),
-                (Method::Mis(Heuristic::Balance), SphereSampling::Area),
-            ] {
-                let settings = RenderSettings::new(method, 1, 1, 2, 3)
-                    .map_err(|e| TestCaseError::fail(e.to_string()))?
-                    .with_sphere_sampling(spheres);
-                for (x, y) in [(0, 0), (2, 1), (3, 2)] {
-                    let e = render_pixel(&built, &settings, x, y);
-                    prop_assert!(
-                        e.radiance().is_finite(),
-                        "non-finite pixel {} in an accepted file",
-                        e.radiance()
-                    );
-                }
-            }
+            common::renders_finite(&scene)?;
         }
     }
     Ok(())
@@ -96,51 +68,6 @@ fn arbitrary_bytes_never_panic() {
     println!("fuzz_mitsuba: {n} arbitrary inputs tried, {} accepted", ACCEPTED[0].load(Ordering::Relaxed));
 }
 
-#[derive(Clone, Debug)]
-enum ByteEdit {
-    Flip(usize, u8),
-    Insert(usize, u8),
-    Delete(usize, usize),
-    Splice(usize, usize, usize),
-}
-
-fn byte_edit() -> impl Strategy<Value = ByteEdit> {
-    prop_oneof![
-        (any::<usize>(), any::<u8>()).prop_map(|(i, b)| ByteEdit::Flip(i, b)),
-        (any::<usize>(), prop::sample::select(b"<>/=\"'$&;-.eE0123456789 ,xyz".to_vec()))
-            .prop_map(|(i, b)| ByteEdit::Insert(i, b)),
-        (any::<usize>(), 1usize..64).prop_map(|(i, n)| ByteEdit::Delete(i, n)),
-        (any::<usize>(), any::<usize>(), 1usize..160).prop_map(|(a, b, n)| ByteEdit::Splice(a, b, n)),
-    ]
-}
-
-fn apply(text: &str, edits: &[ByteEdit]) -> String {
-    let mut b = text.as_bytes().to_vec();
-    for e in edits {
-        let len = b.len().max(1);
-        match *e {
-            ByteEdit::Flip(i, x) => {
-                if let Some(v) = b.get_mut(i % len) {
-                    *v ^= x;
-                }
-            }
-            ByteEdit::Insert(i, x) => b.insert((i % len).min(b.len()), x),
-            ByteEdit::Delete(i, n) => {
-                let start = (i % len).min(b.len());
-                let end = (start + n).min(b.len());
-                b.drain(start..end);
-            }
-            ByteEdit::Splice(from, to, n) => {
-                let start = (from % len).min(b.len());
-                let chunk: Vec<u8> = b[start..(start + n).min(b.len())].to_vec();
-                let at = (to % len).min(b.len());
-                b.splice(at..at, chunk);
-            }
-        }
-    }
-    String::from_utf8_lossy(&b).into_owned()
-}
-
 #[test]
 fn byte_mutations_of_valid_files_never_panic() {
     let seeds = seeds();
@@ -148,7 +75,7 @@ fn byte_mutations_of_valid_files_never_panic() {
         mitsuba::import(s, "seed.xml", "seed").unwrap();
     }
     let n = cases(4000);
-    let strategy = (0..seeds.len(), proptest::collection::vec(byte_edit(), 1..5));
+    let strategy = (0..seeds.len(), proptest::collection::vec(byte_edit(XML_BYTES, 160), 1..5));
     runner(n).run(&strategy, |(i, edits)| check(&apply(&seeds[i], &edits), 1)).unwrap();
     let accepted = ACCEPTED[1].load(Ordering::Relaxed);
     println!("fuzz_mitsuba: {n} byte-mutated files tried, {accepted} accepted and rendered");
