@@ -15,7 +15,7 @@ use crate::light::Light;
 use crate::light_sampler::{LightSampler, ShadingPoint};
 use crate::material::Material;
 use crate::math::{Frame, Rgb, Vec2, Vec3};
-use crate::mis::Technique;
+use crate::mis::{Method, Technique};
 use crate::model::MisModel;
 use crate::rng::Sampler;
 use crate::scene::{Hit, Scene};
@@ -164,22 +164,16 @@ pub fn estimate_direct_multi_sample<const S: usize, const L: usize, const M: usi
 
     // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
     for _ in 0..n_l {
-        let Some(s) = light_sample(scene, settings, at, sampler) else { continue };
-        // A delta light cannot be hit by a BSDF sample: its weight is one.
-        let w = if s.delta {
-            1.0
-        } else {
-            method.weight(Technique::Light, n_light * s.pdf, n_bsdf * s.pdf_other)
-        };
-        by_light.add(s.value * (w / (n_light * s.pdf)), w);
+        if let Some(s) = light_sample(scene, settings, at, sampler) {
+            add_light_sample(&mut by_light, method, &s, n_light, n_bsdf);
+        }
     }
 
     // Technique 2, BSDF sampling: wi ~ p_b, trace; if a light's front side is hit,
     // w_b L_e f cos / (n_b p_b), with p_l evaluated for the light that was hit.
     for _ in 0..n_b {
         bsdf_sample(scene, settings, at, sampler, |s| {
-            let w = method.weight(Technique::Bsdf, n_light * s.pdf_other, n_bsdf * s.pdf);
-            by_bsdf.add(s.value * (w / n_bsdf), w);
+            add_bsdf_sample(&mut by_bsdf, method, &s, n_light, n_bsdf)
         });
     }
     (by_light, by_bsdf)
@@ -198,22 +192,35 @@ pub fn estimate_direct_one_sample<const S: usize, const L: usize, const M: usize
     let method = settings.method();
     let c_light = settings.c_light();
     let c_bsdf = 1.0 - c_light;
+    // The multi-sample formulas with n_i replaced by c_i, for one sample of one technique.
     if sampler.next_f32() < c_light {
         if let Some(s) = light_sample(scene, settings, at, sampler) {
-            let w = if s.delta {
-                1.0
-            } else {
-                method.weight(Technique::Light, c_light * s.pdf, c_bsdf * s.pdf_other)
-            };
-            by_light.add(s.value * (w / (c_light * s.pdf)), w);
+            add_light_sample(&mut by_light, method, &s, c_light, c_bsdf);
         }
     } else {
         bsdf_sample(scene, settings, at, sampler, |s| {
-            let w = method.weight(Technique::Bsdf, c_light * s.pdf_other, c_bsdf * s.pdf);
-            by_bsdf.add(s.value * (w / c_bsdf), w);
+            add_bsdf_sample(&mut by_bsdf, method, &s, c_light, c_bsdf)
         });
     }
     (by_light, by_bsdf)
+}
+
+/// Adds a light sample's weighted contribution w_l f / (m_l p_l), with the weight on
+/// q_l = m_l p_l and q_b = m_b p_b (m: sample counts, or technique probabilities in the one-sample
+/// model). A delta light cannot be hit by a BSDF sample: its weight is one.
+#[inline]
+fn add_light_sample(to: &mut TechniqueEstimate, method: Method, s: &Found, m_light: f32, m_bsdf: f32) {
+    let w =
+        if s.delta { 1.0 } else { method.weight(Technique::Light, m_light * s.pdf, m_bsdf * s.pdf_other) };
+    to.add(s.value * (w / (m_light * s.pdf)), w);
+}
+
+/// Adds a BSDF sample's weighted contribution w_b f / (m_b p_b) (`value` is already f / p_b),
+/// with the weight on q_l = m_l p_l and q_b = m_b p_b.
+#[inline]
+fn add_bsdf_sample(to: &mut TechniqueEstimate, method: Method, s: &Found, m_light: f32, m_bsdf: f32) {
+    let w = method.weight(Technique::Bsdf, m_light * s.pdf_other, m_bsdf * s.pdf);
+    to.add(s.value * (w / m_bsdf), w);
 }
 
 /// A shading point as the techniques see it: the BSDF, the local frame and `wo` in it.
