@@ -5,7 +5,7 @@
 //!
 //! with f = L_e f_r cos(theta_i) over directions at the shading point, p_l = P(light) p_w the light
 //! technique's pdf (the light sampler's selection probability times its pdf per unit solid angle),
-//! p_b the BSDF's pdf, and w the weights of [`Method`](crate::Method) on q_i = n_i p_i. Each
+//! p_b the BSDF's pdf, and w the weights of [`Method`] on q_i = n_i p_i. Each
 //! technique's weighted contribution and weights are kept apart, so the lecture's weight and
 //! contribution images come from this one function.
 
