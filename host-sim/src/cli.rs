@@ -200,14 +200,14 @@ pub struct ExtrasArgs {
 
 impl ExtrasArgs {
     /// The study's form of these options (validated: `c_light` in [0, 1]).
-    pub fn extras(&self) -> Result<crate::study::Extras, SimError> {
+    pub fn extras(&self) -> Result<picomis::study::Extras, SimError> {
         let name = match self.mis_model {
             MisModelArg::Multi => "multi",
             MisModelArg::One => "one",
         };
         let model = parse_mis_model(name, self.c_light)
             .map_err(|e| SimError::Usage(format!("--mis-model {name} --c-light {}: {e}", self.c_light)))?;
-        Ok(crate::study::Extras {
+        Ok(picomis::study::Extras {
             model,
             quads: match self.quad_sampling {
                 QuadSamplingArg::Area => QuadSampling::Area,
@@ -217,7 +217,7 @@ impl ExtrasArgs {
                 OnOff::On => ControlVariate::On,
                 OnOff::Off => ControlVariate::Off,
             },
-            ..crate::study::Extras::default()
+            ..picomis::study::Extras::default()
         })
     }
 }
