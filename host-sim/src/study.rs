@@ -18,11 +18,17 @@
 //! its pixel-edge noise would otherwise add the same floor to every method. `--include-emitted`
 //! measures the full radiance instead.
 //!
-//! The methods are the kernel's list ([`picomis::study::study_methods`]). The modules, each
-//! reading only those listed after it: `report` and `region_report` write the outputs (with
-//! `chart` and `grid`), `job` runs the steps on one scene, `results` holds what they measure,
-//! `regions` and `reference` make the regions and the converged references, `measure` does one
-//! render (through [`crate::render`]), `metrics` the errors, `args` the command line.
+//! The methods are the kernel's list ([`picomis::study::study_methods`]). The modules, none of
+//! which reads this one (each reads only modules further down the list):
+//! - `report` (charts with `chart`, the equal-time grid with `grid`, CSV, summary) and
+//!   `region_report` (the region table and heat maps; it reads `report`'s writers) write the
+//!   outputs;
+//! - `job` runs the steps of one scene over one context;
+//! - `results` holds what they measure;
+//! - `regions` finds the plate x light regions and renders each light alone;
+//! - `reference` makes (or reads from the cache) the converged references;
+//! - `measure` does one render (through [`crate::render`]), `metrics` the errors, `args` the
+//!   command line.
 
 mod args;
 mod chart;

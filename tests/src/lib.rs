@@ -5,11 +5,11 @@
 //!   [`check_unbiased`], the z-test every unbiasedness check goes through (|mean - exact| <
 //!   4 stderr, and the stderr must be small enough for the check to be able to fail), with
 //!   [`check_agreement`] for two estimates of a value that has no closed form;
-//! - [`chi2`]: [`chi2_pooled`] / [`assert_chi2`], Pearson's chi-square with Mitsuba's pooling of
-//!   cells with fewer than 5 expected samples and a Sidak-corrected significance level;
-//! - [`histogram`]: [`Histogram2d`], a chart of the sample space on [0, 1)^2 binned into cells,
-//!   whose expected counts come from integrating a density numerically (adaptive Gauss-Legendre
-//!   per cell);
+//! - [`chi2`](mod@chi2): [`chi2_pooled`] / [`assert_chi2`], Pearson's chi-square with Mitsuba's
+//!   pooling of cells with fewer than 5 expected samples and a Sidak-corrected significance level;
+//! - [`histogram`](mod@histogram): [`Histogram2d`], a chart of the sample space on [0, 1)^2 binned
+//!   into cells, whose expected counts come from integrating a density numerically (adaptive
+//!   Gauss-Legendre per cell);
 //! - [`cap`]: [`Cap`], a polar chart of (part of) the sphere of directions around an axis;
 //! - [`closed_forms`]: [`sphere_irradiance`], [`sphere_irradiance_at`],
 //!   [`lambert_polygon_irradiance`], [`polygon_solid_angle`], [`cone_measure`];

@@ -88,7 +88,7 @@ pub fn ladder(max: u32) -> Vec<u32> {
 }
 
 /// The study film: `scale` times the scene's film, or by default the film scaled down to at most
-/// [`STUDY_PIXELS`] pixels.
+/// 192 x 128 pixels' worth (`STUDY_PIXELS`).
 pub fn study_film(film: Film, scale: Option<f32>) -> Result<Film, SimError> {
     let (w, h) = (f64::from(film.width()), f64::from(film.height()));
     let s = match scale {
