@@ -19,8 +19,8 @@
 
 mod chart;
 mod grid;
-mod metrics;
-mod reference;
+pub mod metrics;
+pub mod reference;
 mod regions;
 mod report;
 
@@ -39,6 +39,7 @@ use crate::render::progress_bar;
 use crate::scenes::{self, BUILTINS, Loaded, SceneVisitor};
 
 use metrics::ErrorStats;
+pub use report::load_average;
 use reference::Reference;
 use regions::{RegionMap, RegionStudy};
 

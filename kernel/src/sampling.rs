@@ -278,22 +278,21 @@ impl<const N: usize> GridDistribution<N> {
         // Each share rounded to the grid, at least one value if positive; the rounding difference
         // (at most N values either way) goes to the largest entry, which has at least GRID / N.
         let scale = GRID as f32 / total;
-        let cells = |w: f32| if w > 0.0 { ((w * scale + 0.5) as u32).clamp(1, GRID) } else { 0 };
-        let mut sum = 0u32;
+        let mut end = 0u32;
         let mut largest = (0, 0);
         for (i, &w) in weights.iter().enumerate() {
-            let c = cells(w);
-            sum += c;
+            let c = if w > 0.0 { ((w * scale + 0.5) as u32).clamp(1, GRID) } else { 0 };
+            end += c;
             if c > largest.1 {
                 largest = (i, c);
             }
-        }
-        let mut end = 0u32;
-        for (i, &w) in weights.iter().enumerate() {
-            let c = if i == largest.0 { (largest.1 + GRID).saturating_sub(sum) } else { cells(w) };
-            end += c;
             // `weights` has at most N entries.
             let _ = ends.push(end);
+        }
+        // The largest entry's run, and every end after it, moves by the rounding difference.
+        let shift = (largest.1 + GRID).saturating_sub(end).wrapping_sub(largest.1);
+        for e in ends.iter_mut().skip(largest.0) {
+            *e = e.wrapping_add(shift);
         }
         Self { ends }
     }
