@@ -102,7 +102,11 @@ impl SceneVisitor for Job<'_> {
             bar.finish_and_clear();
             let base = results[0];
             let base_err = base.0 / f64::from(self.seeds);
-            println!("\n{name} at {spp} spp ({} seeds); ratios against {}:\n", self.seeds, configs[0].label());
+            println!(
+                "\n{name} at {spp} spp ({} seeds); ratios against {}:\n",
+                self.seeds,
+                configs[0].label()
+            );
             println!("| sampler / light selection | rel. MSE | ms | rel. MSE ratio | efficiency ratio |");
             println!("|---|---:|---:|---:|---:|");
             for (c, r) in configs.iter().zip(&results) {

@@ -8,10 +8,7 @@
 
 use std::time::Duration;
 
-use picomis::{
-    CameraDesc, Film, FovAxis, Material, RenderSettings, Rgb, Sampler, Scene, Shape, Vec2,
-    Vec3,
-};
+use picomis::{CameraDesc, Film, FovAxis, Material, RenderSettings, Rgb, Sampler, Scene, Shape, Vec2, Vec3};
 use picomis_format::SceneFile;
 
 /// Criterion samples per benchmark (kept small: `cargo bench -p picomis-bench` takes minutes).

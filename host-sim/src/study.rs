@@ -39,9 +39,9 @@ use crate::render::progress_bar;
 use crate::scenes::{self, BUILTINS, Loaded, SceneVisitor};
 
 use metrics::ErrorStats;
-pub use report::load_average;
 use reference::Reference;
 use regions::{RegionMap, RegionStudy};
+pub use report::load_average;
 
 /// `picomis-sim study`.
 #[derive(Debug, Clone, clap::Args)]

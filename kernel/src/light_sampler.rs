@@ -17,8 +17,8 @@ use crate::light_importance::{light_cone, weighs_bsdf};
 use crate::material::Material;
 use crate::math::{Frame, Rgb, Vec2, Vec3, max0, safe_sqrt, sqrt};
 use crate::sampling::{
-    GridDistribution, SphericalRectangle, cone_one_minus_cos, sample_spherical_rectangle, sample_uniform_cone,
-    spherical_rectangle, spherical_rectangle_pdf, uniform_cone_pdf,
+    GridDistribution, SphericalRectangle, cone_one_minus_cos, sample_spherical_rectangle,
+    sample_uniform_cone, spherical_rectangle, spherical_rectangle_pdf, uniform_cone_pdf,
 };
 use crate::scene::Scene;
 use crate::shape::Rectangle;
@@ -232,7 +232,8 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         if n == 0 {
             return None;
         }
-        let choice = |(i, probability): (usize, f32)| LightChoice { light: LightId::new(i as u16), probability };
+        let choice =
+            |(i, probability): (usize, f32)| LightChoice { light: LightId::new(i as u16), probability };
         if self.selects_locally() {
             return at.local.sample(u).map(choice);
         }

@@ -386,9 +386,11 @@ fn light_importances(s: &LightScene, x: DVec3, n: DVec3) -> Vec<f64> {
                 let (d, r) = (v.length(), f64::from(shape.bounding_radius()));
                 let solid_angle = match shape.as_sphere() {
                     Some(_) => PI * (r / d).powi(2),
-                    None => f64::from(shape.area()) * d3(shape.normal_at(shape.centroid())).dot(-v) / d.powi(3),
+                    None => {
+                        f64::from(shape.area()) * d3(shape.normal_at(shape.centroid())).dot(-v) / d.powi(3)
+                    }
                 };
-                luminance(*radiance) * solid_angle * cosine(v / d, r / d)
+                luminance(*radiance) * solid_angle * cosine(v * (1.0 / d), r / d)
             }
             Light::Point { position, intensity } => {
                 let v = d3(*position) - x;
@@ -419,7 +421,10 @@ fn chi2_light_selection() {
         let at = lights.selection_at(&ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo: Vec3::Y, bsdf });
         for (i, e) in exact.iter().enumerate() {
             let p = f64::from(lights.pmf(&at, LightId::new(i as u16)));
-            assert!((p - e).abs() < tolerance * e.max(1.0), "{selection:?}: P(light {i}) = {p}, expected {e}");
+            assert!(
+                (p - e).abs() < tolerance * e.max(1.0),
+                "{selection:?}: P(light {i}) = {p}, expected {e}"
+            );
         }
         let mut rng = Sampler::new(200 + k as u32, 0, 0);
         let mut observed = vec![0.0; 4];
