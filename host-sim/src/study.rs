@@ -2,12 +2,15 @@
 //!
 //! For each scene and each method (BSDF sampling alone; light sampling alone with sphere lights
 //! sampled by area and by cone; the average, balance, power, maximum and cutoff heuristics; all
-//! with the default sample stream, and the power heuristic again with independent numbers), the
+//! with the default sample stream and uniform light selection, and the power heuristic again
+//! with independent numbers and with lights chosen by power and by contribution), the
 //! study renders a ladder of samples per pixel (1, 2, 4, ... up to `--max-spp`) with several
 //! seeds, times each render on all cores, and measures its error against a converged reference
 //! (balance heuristic, cone sampling, many samples; cached as EXR under `DIR/cache`). It writes
 //! `results.csv`, log-log charts of error against time and against spp, an equal-time image grid
-//! per scene, efficiency tables (`summary.md`) and, for the Veach scene, the error per
+//! per scene, efficiency tables with the convergence slope of each method (`summary.md`: the
+//! least-squares slope of log relative MSE against log spp; -1 is plain Monte Carlo, steeper is
+//! what stratification gains) and, for the Veach scene, the error per
 //! plate x light region (`veach_regions.md` and heat maps).
 //!
 //! Time is wall-clock time on all cores; where a method's time enters a ratio (efficiency,
@@ -132,9 +135,10 @@ impl Extras {
 
 /// The methods of the study, in the seed's order, with the default sample stream (sobol) and
 /// uniform light selection; then the power heuristic with independent random numbers (what the
-/// stratified stream gains). The heuristics sample sphere lights by cone. (Every method keeps
-/// uniform selection: the Veach region study renders each light alone, which leaves the
-/// selection probabilities unchanged only under uniform selection.)
+/// stratified stream gains) and with lights chosen by power and by contribution. The heuristics
+/// sample sphere lights by cone. (The Veach region study renders each light alone, which leaves
+/// the selection probabilities unchanged only under uniform selection: it leaves out the
+/// methods that choose otherwise.)
 pub fn study_methods() -> Vec<StudyMethod> {
     let m = |name: &str| Method::from_name(name).expect("the kernel's method names");
     let (cone, area) = (SphereSampling::Cone, SphereSampling::Area);
@@ -158,6 +162,15 @@ pub fn study_methods() -> Vec<StudyMethod> {
         StudyMethod {
             extras: Extras { sampler: SamplerKind::Independent, ..Extras::default() },
             ..study("power_independent", "power, independent numbers", m("power"), cone)
+        },
+        // Light selection: by power, and by estimated contribution at the shading point.
+        StudyMethod {
+            extras: Extras { selection: LightSelection::Power, ..Extras::default() },
+            ..study("power_by_power", "power, lights by power", m("power"), cone)
+        },
+        StudyMethod {
+            extras: Extras { selection: LightSelection::Contribution, ..Extras::default() },
+            ..study("power_by_contribution", "power, lights by contribution", m("power"), cone)
         },
         // Beyond the lecture, each against balance.
         StudyMethod {

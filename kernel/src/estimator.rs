@@ -301,10 +301,10 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
 ) -> Option<Found> {
     let lights = light_sampler(scene, settings);
     let p = at.x.point.p;
-    let u_select = sampler.next_f32();
-    let u: Vec2 = sampler.next_2d();
-    let chosen = lights.select(&at.selection, u_select)?;
-    let ls = lights.sample(chosen.light, p, u)?;
+    // One 2-D request: its first number chooses the light and, rescaled, places the point.
+    let (u_select, v) = sampler.next_2d_reusable();
+    let (chosen, u) = lights.select_reusing(&at.selection, u_select)?;
+    let ls = lights.sample(chosen.light, p, Vec2::new(u, v))?;
     // The light technique's pdf of this direction: p_l = P(light) p_w(wi | light).
     let p_light = chosen.probability * ls.pdf;
     let wi = at.frame.to_local(ls.wi);

@@ -17,8 +17,9 @@ use crate::light_importance::{light_cone, weighs_bsdf};
 use crate::material::Material;
 use crate::math::{Frame, Rgb, Vec2, Vec3, max0, safe_sqrt, sqrt};
 use crate::sampling::{
-    GridDistribution, SphericalRectangle, cone_one_minus_cos, sample_spherical_rectangle,
-    sample_uniform_cone, spherical_rectangle, spherical_rectangle_pdf, uniform_cone_pdf,
+    GRID, GridDistribution, SphericalRectangle, cone_one_minus_cos, sample_spherical_rectangle,
+    sample_uniform_cone, sample_uniform_index, spherical_rectangle, spherical_rectangle_pdf,
+    uniform_cone_pdf, uniform_index_pmf,
 };
 use crate::scene::Scene;
 use crate::shape::Rectangle;
@@ -224,26 +225,33 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         self.selection == LightSelection::Contribution && self.scene.lights().len() > 1
     }
 
-    /// Chooses a light at the shading point of `at` with the random number `u`; `None` when the
+    /// Chooses a light at the shading point of `at` with the random number `u` in [0, 1) (on
+    /// the 2^24 grid of [`Sampler::next_f32`](crate::rng::Sampler::next_f32)); `None` when the
     /// scene has no light (or, selecting by contribution, no light can contribute there).
     #[inline]
     pub fn select(&self, at: &SelectionAt<L>, u: f32) -> Option<LightChoice> {
-        let n = self.scene.lights().len();
-        if n == 0 {
-            return None;
-        }
-        let choice =
-            |(i, probability): (usize, f32)| LightChoice { light: LightId::new(i as u16), probability };
-        if self.selects_locally() {
-            return at.local.sample(u).map(choice);
-        }
-        let by_weight = match self.selection {
-            LightSelection::Power => self.scene.light_powers().sample(u),
-            LightSelection::Uniform | LightSelection::Contribution => None,
-        };
-        // Uniform (also when no light has power).
-        let uniform = || (((u * n as f32) as usize).min(n - 1), 1.0 / n as f32);
-        Some(choice(by_weight.unwrap_or_else(uniform)))
+        let k = ((u * GRID as f32) as u32).min(GRID - 1);
+        self.select_reusing(at, k << 8).map(|(chosen, _)| chosen)
+    }
+
+    /// Chooses a light like [`LightSampler::select`] with the top 24 of the 32 random `bits`,
+    /// and returns with it the bits rescaled within the chosen light's share of the numbers
+    /// ([`DiscreteSample::reused`](crate::sampling::DiscreteSample::reused)): uniform in [0, 1) and independent of the choice, the first
+    /// coordinate of the point on the light, so that selection and position stay one
+    /// stratified 2-D sample ([`Sampler::next_2d_reusable`](crate::rng::Sampler::next_2d_reusable)).
+    #[inline]
+    pub fn select_reusing(&self, at: &SelectionAt<L>, bits: u32) -> Option<(LightChoice, f32)> {
+        let powers = self.scene.light_powers();
+        let drawn = if self.selects_locally() {
+            at.local.sample_reusing(bits)
+        } else if self.selection == LightSelection::Power && !powers.is_empty() {
+            powers.sample_reusing(bits)
+        } else {
+            // Uniform (also when no light has power).
+            sample_uniform_index(bits, self.scene.lights().len())
+        }?;
+        let chosen = LightChoice { light: LightId::new(drawn.index as u16), probability: drawn.probability };
+        Some((chosen, drawn.reused))
     }
 
     /// The probability with which [`LightSampler::select`] chooses `light` at the shading point
@@ -260,7 +268,7 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         let powers = self.scene.light_powers();
         match self.selection {
             LightSelection::Power if !powers.is_empty() => powers.pmf(light.index()),
-            _ => 1.0 / n as f32,
+            _ => uniform_index_pmf(n),
         }
     }
 

@@ -41,6 +41,22 @@ pub fn over_seeds(records: &[Record], mi: usize, spp: u32, f: impl Fn(&Record) -
     (mean(vals.into_iter()), lo, hi)
 }
 
+/// The least-squares slope of ln(relative MSE) against ln(spp) of method `mi` over the rungs
+/// (the error mean over seeds); NaN with fewer than two rungs of positive error.
+pub fn convergence_slope(records: &[Record], mi: usize) -> f64 {
+    let points: Vec<(f64, f64)> = rungs(records)
+        .into_iter()
+        .map(|spp| (f64::from(spp).ln(), over_seeds(records, mi, spp, |r| r.error.rel_mse).0))
+        .filter(|(_, e)| *e > 0.0 && e.is_finite())
+        .map(|(x, e)| (x, e.ln()))
+        .collect();
+    let n = points.len() as f64;
+    let (mx, my) = (mean(points.iter().map(|p| p.0)), mean(points.iter().map(|p| p.1)));
+    let sxy: f64 = points.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = points.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
+    if n >= 2.0 && sxx > 0.0 { sxy / sxx } else { f64::NAN }
+}
+
 fn measured_on(args_include_emitted: bool) -> &'static str {
     if args_include_emitted { "full radiance" } else { "reflected light" }
 }
@@ -58,7 +74,10 @@ pub fn write_scene(out: &Path, study: &SceneStudy, include_emitted: bool) -> Res
             .iter()
             .enumerate()
             .map(|(mi, m)| Series {
-                label: m.title.to_string(),
+                label: match kind {
+                    "spp" => format!("{} (slope {:.2})", m.title, convergence_slope(&study.records, mi)),
+                    _ => m.title.to_string(),
+                },
                 color: COLORS[mi % COLORS.len()],
                 dashed: mi < 3,
                 points: rungs
@@ -231,7 +250,8 @@ pub fn write_summary(
         md,
         "- Efficiency = 1 / (error x seconds) at the top rung (error: mean over seeds; seconds: the fastest \
          seed's render, robust against other processes), relative to the balance heuristic: 2.0 means half \
-         the time for the same error.\n"
+         the time for the same error. The slope is that of a least-squares fit of log relative MSE against \
+         log spp over the ladder: -1 for independent samples, steeper where stratification helps.\n"
     );
     for s in studies {
         let eff = efficiencies(s);
@@ -249,20 +269,21 @@ pub fn write_summary(
         );
         let _ = writeln!(
             md,
-            "| method | ms per image | camera samples/s | MSE | rel. MSE | efficiency vs balance (rel. MSE) | efficiency vs balance (MSE) | equal-time spp | equal-time rel. MSE |"
+            "| method | ms per image | camera samples/s | MSE | rel. MSE | rel. MSE slope vs spp | efficiency vs balance (rel. MSE) | efficiency vs balance (MSE) | equal-time spp | equal-time rel. MSE |"
         );
-        let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+        let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
         for (mi, m) in methods.iter().enumerate() {
             let e = eff[mi];
             let eq = s.equal_time.iter().find(|q| q.method == mi);
             let _ = writeln!(
                 md,
-                "| {} | {:.1} | {:.2} M | {:.3e} | {:.3e} | {} | {} | {} | {} |",
+                "| {} | {:.1} | {:.2} M | {:.3e} | {:.3e} | {:.2} | {} | {} | {} | {} |",
                 m.title,
                 e.seconds * 1e3,
                 e.samples_per_second / 1e6,
                 e.mse,
                 e.rel_mse,
+                convergence_slope(&s.records, mi),
                 ratio(e.rel_efficiency / b.rel_efficiency),
                 ratio(e.efficiency / b.efficiency),
                 eq.map_or(String::new(), |q| q.spp.to_string()),
@@ -527,4 +548,32 @@ fn region_map(study: &SceneStudy) -> Canvas {
         }
     }
     c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::metrics::ErrorStats;
+
+    #[test]
+    fn the_convergence_slope_is_that_of_the_fitted_power_law() {
+        let record = |method, spp: u32, seed, rel_mse| Record {
+            method,
+            spp,
+            seed,
+            seconds: 1.0,
+            error: ErrorStats { mse: rel_mse, rel_mse },
+            mitsuba: None,
+        };
+        let mut records = Vec::new();
+        for spp in [1u32, 2, 4, 8, 16] {
+            // Method 0: 1 / spp^1.5 on average over two seeds; method 1: one rung only.
+            let e = 0.3 * f64::from(spp).powf(-1.5);
+            records.push(record(0, spp, 1, 0.5 * e));
+            records.push(record(0, spp, 2, 1.5 * e));
+        }
+        records.push(record(1, 4, 1, 0.1));
+        assert!((convergence_slope(&records, 0) + 1.5).abs() < 1e-9, "{}", convergence_slope(&records, 0));
+        assert!(convergence_slope(&records, 1).is_nan());
+    }
 }
