@@ -189,21 +189,23 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         }
         let lights = self.scene.lights();
         let n = lights.len().min(L);
-        let mut importance = [0.0f32; L];
-        let mut cones = [None; L];
-        for ((light, i), cone) in lights.iter().zip(importance.iter_mut()).zip(cones.iter_mut()) {
-            *cone = light_cone(light, self.scene.light_shape(light), at.p);
-            *i = cone.map_or(0.0, |c| c.importance(at.n));
+        // The BSDF's part, if it has one: in the receiver's frame.
+        let bsdf = weighs_bsdf(&at.bsdf).then(|| {
+            let frame = Frame::from_normal(at.n);
+            (frame, frame.to_local(at.wo))
+        });
+        let (mut importance, mut contribution) = ([0.0f32; L], [0.0f32; L]);
+        for (k, light) in lights.iter().enumerate().take(n) {
+            if let Some(cone) = light_cone(light, self.scene.light_shape(light), at.p) {
+                importance[k] = cone.importance(at.n);
+                if let Some((frame, wo)) = &bsdf {
+                    contribution[k] = cone.contribution(&at.bsdf, frame, *wo);
+                }
+            }
         }
         let importance = &mut importance[..n];
-        if weighs_bsdf(&at.bsdf) {
+        if bsdf.is_some() {
             // The mixture (1 - floor) c_k / sum c + floor i_k / sum i, each part where it has a sum.
-            let frame = Frame::from_normal(at.n);
-            let wo = frame.to_local(at.wo);
-            let mut contribution = [0.0f32; L];
-            for (c, cone) in contribution.iter_mut().zip(&cones[..n]) {
-                *c = cone.map_or(0.0, |cone| cone.contribution(&at.bsdf, &frame, wo));
-            }
             let sum = |w: &[f32]| w.iter().sum::<f32>();
             let (total_i, total_c) = (sum(importance), sum(&contribution[..n]));
             let (scale_i, scale_c) = match (total_i > 0.0, total_c > 0.0) {
