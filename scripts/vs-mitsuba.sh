@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # picomis against Mitsuba 3 on the Veach scene at equal spp: relative MSE, render time and
-# efficiency 1 / (relMSE x s) of picomis (its default, best sampler) and of every Mitsuba sampler
-# (independent, stratified, multijitter, ldsampler at 64 spp; orthogonal at 121), interleaved,
-# 3 rounds. Prints the table and writes docs/vs-mitsuba.md. A benchmark, not a test.
+# efficiency 1 / (relMSE x s) of picomis (its defaults, and with light selection by contribution)
+# and of every Mitsuba sampler (independent, stratified, multijitter, ldsampler at 64 spp;
+# orthogonal at 121), interleaved, 3 rounds. Prints the table and writes docs/vs-mitsuba.md. A
+# benchmark, not a test: run it on a quiet machine (the table records the load average).
 #
 # Installs what it needs: Mitsuba 3 (PyPI) in a venv under target/vs-mitsuba/, and Debian's
 # libllvm19 for Mitsuba's llvm_ad_rgb variant (apt-get, as root).

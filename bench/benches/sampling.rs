@@ -158,10 +158,12 @@ fn scene_queries(c: &mut Criterion) {
         scene.unoccluded(ray, *dist, *a, Some(ShapeId::new(7)))
     });
     let lights = LightSampler::new(&scene, LightSelection::Uniform, SphereSampling::Cone);
+    let diffuse = Material::lambertian(Rgb::splat(0.5)).expect("valid albedo");
     cycle(&mut g, "sample_light_cone", |i| {
-        let at = ShadingPoint { p: shadow[i].0.origin, n: Vec3::Y, wo: Vec3::Y };
+        let p = shadow[i].0.origin;
+        let at = lights.selection_at(&ShadingPoint { p, n: Vec3::Y, wo: Vec3::Y, bsdf: diffuse });
         let chosen = lights.select(&at, t.u1[i])?;
-        lights.sample(chosen.light, at.p, t.u[i]).map(|s| s.pdf * chosen.probability)
+        lights.sample(chosen.light, p, t.u[i]).map(|s| s.pdf * chosen.probability)
     });
     g.finish();
 }

@@ -2,15 +2,16 @@
 //! with the scene: against the number of shapes (a floor, one sphere light out of view and 0 to
 //! 62 visible spheres: 2 to 64 shapes) and against the number of lights (always 33 shapes: a
 //! floor, 16 visible spheres and 16 spheres out of view of which 1 to 16 emit; lights chosen
-//! uniformly or by power). The kernel intersects every shape (no acceleration structure), so
+//! by every light selection). The kernel intersects every shape (no acceleration structure), so
 //! the first curve should be about linear; uniform light selection is O(1), selection by power
-//! a linear scan over the lights.
+//! a linear scan over the lights, selection by contribution an estimate per light at every
+//! shading point.
 
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use picomis::{Heuristic, Method, RenderSettings, camera_sample};
-use picomis_bench::{MEASUREMENT, PixelCycle, SAMPLE_SIZE, SELECTIONS, SynthScene, WARM_UP, synthetic_scene};
+use picomis::{Heuristic, LightSelection, Method, RenderSettings, camera_sample};
+use picomis_bench::{MEASUREMENT, PixelCycle, SAMPLE_SIZE, SynthScene, WARM_UP, synthetic_scene};
 
 fn balance() -> RenderSettings {
     RenderSettings::new(Method::Mis(Heuristic::Balance), 1, 1, 1, 0).expect("valid settings")
@@ -36,8 +37,8 @@ fn shapes(c: &mut Criterion) {
 }
 
 fn lights(c: &mut Criterion) {
-    for (name, selection) in SELECTIONS {
-        let mut group = c.benchmark_group(format!("scaling/lights_{name}"));
+    for selection in LightSelection::ALL {
+        let mut group = c.benchmark_group(format!("scaling/lights_{}", selection.name()));
         group.throughput(Throughput::Elements(1));
         let settings = balance().with_light_selection(selection);
         for n in [1usize, 2, 4, 8, 16] {

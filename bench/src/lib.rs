@@ -8,10 +8,7 @@
 
 use std::time::Duration;
 
-use picomis::{
-    CameraDesc, Film, FovAxis, LightSelection, Material, RenderSettings, Rgb, Sampler, Scene, Shape, Vec2,
-    Vec3,
-};
+use picomis::{CameraDesc, Film, FovAxis, Material, RenderSettings, Rgb, Sampler, Scene, Shape, Vec2, Vec3};
 use picomis_format::SceneFile;
 
 /// Criterion samples per benchmark (kept small: `cargo bench -p picomis-bench` takes minutes).
@@ -190,10 +187,6 @@ pub fn synthetic_scene(visible: usize, slots: usize, lights: usize) -> SynthScen
     }
     scene
 }
-
-/// Light selections compared in the light-count curve.
-pub const SELECTIONS: [(&str, LightSelection); 2] =
-    [("uniform", LightSelection::Uniform), ("power", LightSelection::Power)];
 
 #[cfg(test)]
 mod tests {

@@ -85,15 +85,6 @@ pub enum OnOff {
     Off,
 }
 
-/// How a light is chosen among several.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum LightSelectionArg {
-    /// Every light equally likely.
-    Uniform,
-    /// Proportional to emitted power.
-    Power,
-}
-
 /// `picomis-sim render`.
 #[derive(Debug, clap::Args)]
 pub struct RenderArgs {
@@ -124,8 +115,8 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = SphereSamplingArg::Cone)]
     pub sphere_sampling: SphereSamplingArg,
     /// How a light is chosen among several.
-    #[arg(long, value_enum, default_value_t = LightSelectionArg::Uniform)]
-    pub light_selection: LightSelectionArg,
+    #[arg(long, value_name = "S", value_parser = selection_parser(), default_value = LightSelection::default().name())]
+    pub light_selection: LightSelection,
     /// How quad lights are sampled.
     #[arg(long, value_enum, default_value_t = QuadSamplingArg::Area)]
     pub quad_sampling: QuadSamplingArg,
@@ -278,6 +269,15 @@ fn sampler_parser() -> impl TypedValueParser<Value = SamplerKind> {
         .try_map(|name| SamplerKind::from_name(&name).ok_or_else(|| format!("unknown sampler {name:?}")))
 }
 
+/// The `--light-selection` value parser: the kernel's strategies (with their summaries in the
+/// help).
+pub fn selection_parser() -> impl TypedValueParser<Value = LightSelection> {
+    let names = LightSelection::ALL.map(|s| PossibleValue::new(s.name()).help(s.summary()));
+    PossibleValuesParser::new(names).try_map(|name| {
+        LightSelection::from_name(&name).ok_or_else(|| format!("unknown light selection {name:?}"))
+    })
+}
+
 /// The method with its parameter, as the render line shows it.
 fn describe(m: Method) -> String {
     match (m.beta(), m.alpha()) {
@@ -290,6 +290,12 @@ fn describe(m: Method) -> String {
 /// The options beyond the lecture that differ from their defaults, for the summary line.
 fn extras_note(s: &RenderSettings) -> String {
     let mut note = String::new();
+    if s.light_selection() != LightSelection::default() {
+        note += &format!(", light selection {}", s.light_selection().name());
+    }
+    if s.sampler() != SamplerKind::default() {
+        note += &format!(", {} sampler", s.sampler().name());
+    }
     if let MisModel::One { c_light } = s.mis_model() {
         note += &format!(", one-sample model (c_light {c_light})");
     }
@@ -342,10 +348,6 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
         SphereSamplingArg::Area => SphereSampling::Area,
         SphereSamplingArg::Cone => SphereSampling::Cone,
     };
-    let selection = match args.light_selection {
-        LightSelectionArg::Uniform => LightSelection::Uniform,
-        LightSelectionArg::Power => LightSelection::Power,
-    };
     let quads = match args.quad_sampling {
         QuadSamplingArg::Area => QuadSampling::Area,
         QuadSamplingArg::SolidAngle => QuadSampling::SolidAngle,
@@ -373,7 +375,7 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
     let sampler = args.sampler.unwrap_or(loaded.file.default_sampler());
     Ok(settings
         .with_sphere_sampling(spheres)
-        .with_light_selection(selection)
+        .with_light_selection(args.light_selection)
         .with_quad_sampling(quads)
         .with_control_variate(control_variate)
         .with_sampler(sampler))

@@ -2,12 +2,14 @@
 //!
 //! For each scene and each method (BSDF sampling alone; light sampling alone with sphere lights
 //! sampled by area and by cone; the average, balance, power, maximum and cutoff heuristics; all
-//! with the default sample stream, and the power heuristic again with independent numbers), the
-//! study renders a ladder of samples per pixel (1, 2, 4, ... up to `--max-spp`) with several
+//! with the default sample stream and uniform light selection, and the power heuristic again
+//! with independent numbers and with lights chosen by power and by contribution), the study renders a ladder of samples per pixel (1, 2, 4, ... up to `--max-spp`) with several
 //! seeds, times each render on all cores, and measures its error against a converged reference
 //! (balance heuristic, cone sampling, many samples; cached as EXR under `DIR/cache`). It writes
 //! `results.csv`, log-log charts of error against time and against spp, an equal-time image grid
-//! per scene, efficiency tables (`summary.md`) and, for the Veach scene, the error per
+//! per scene, efficiency tables with the convergence slope of each method (`summary.md`: the
+//! least-squares slope of log relative MSE against log spp; -1 is plain Monte Carlo, steeper is
+//! what stratification gains) and, for the Veach scene, the error per
 //! plate x light region (`veach_regions.md` and heat maps).
 //!
 //! Time is wall-clock time on all cores; where a method's time enters a ratio (efficiency,
@@ -35,8 +37,8 @@ mod chart;
 mod grid;
 mod job;
 mod measure;
-mod metrics;
-mod reference;
+pub mod metrics;
+pub mod reference;
 mod region_report;
 mod regions;
 mod report;
@@ -48,7 +50,9 @@ use crate::SimError;
 use crate::scenes::{self, BUILTINS, Loaded};
 
 pub use args::{StudyArgs, ladder, study_film};
+pub use measure::timed;
 pub use picomis::study::{Extras, StudyMethod, study_methods};
+pub use report::load_average;
 pub use results::{EqualTime, Record, SceneStudy, balance_index, cost_per_spp, index_of};
 
 /// Runs the study.

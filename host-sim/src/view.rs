@@ -17,7 +17,7 @@ use picomis::{
 };
 
 use crate::SimError;
-use crate::cli::{LightSelectionArg, SphereSamplingArg};
+use crate::cli::{SphereSamplingArg, selection_parser};
 use crate::figure;
 use crate::scenes::Loaded;
 
@@ -60,8 +60,8 @@ pub struct ViewArgs {
     #[arg(long, value_enum, default_value_t = SphereSamplingArg::Cone)]
     pub sphere_sampling: SphereSamplingArg,
     /// How a light is chosen among several.
-    #[arg(long, value_enum, default_value_t = LightSelectionArg::Uniform)]
-    pub light_selection: LightSelectionArg,
+    #[arg(long, value_name = "S", value_parser = selection_parser(), default_value = LightSelection::default().name())]
+    pub light_selection: LightSelection,
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -129,7 +129,7 @@ pub enum Action {
     Beta(i32),
     /// alpha up (`a`) or down (`A`) by 0.05.
     Alpha(i32),
-    /// Light selection: uniform or by power (`l`).
+    /// The next light selection of `LightSelection::ALL` (`l`).
     LightSelection,
     /// Sphere sampling: by area or in the cone (`s`).
     SphereSampling,
@@ -193,10 +193,7 @@ impl ViewState {
             view: View::Image,
             beta,
             alpha,
-            selection: match args.light_selection {
-                LightSelectionArg::Uniform => LightSelection::Uniform,
-                LightSelectionArg::Power => LightSelection::Power,
-            },
+            selection: args.light_selection,
             spheres: match args.sphere_sampling {
                 SphereSamplingArg::Area => SphereSampling::Area,
                 SphereSamplingArg::Cone => SphereSampling::Cone,
@@ -228,13 +225,12 @@ impl ViewState {
     }
 
     /// Light selection and sphere sampling, for the status line.
-    pub fn sampling_label(&self) -> &'static str {
-        match (self.selection, self.spheres) {
-            (LightSelection::Uniform, SphereSampling::Cone) => "uniform, cone",
-            (LightSelection::Uniform, SphereSampling::Area) => "uniform, area",
-            (LightSelection::Power, SphereSampling::Cone) => "power, cone",
-            (LightSelection::Power, SphereSampling::Area) => "power, area",
-        }
+    pub fn sampling_label(&self) -> String {
+        let spheres = match self.spheres {
+            SphereSampling::Cone => "cone",
+            SphereSampling::Area => "area",
+        };
+        format!("{}, {spheres}", self.selection.name())
     }
 
     /// Applies a key; true if the image must be rendered again. Methods the scene cannot use
@@ -269,10 +265,9 @@ impl ViewState {
                 self.alpha != old && method_name_at(self.method) == "cutoff"
             }
             Action::LightSelection => {
-                self.selection = match self.selection {
-                    LightSelection::Uniform => LightSelection::Power,
-                    LightSelection::Power => LightSelection::Uniform,
-                };
+                let all = LightSelection::ALL;
+                let i = all.iter().position(|&s| s == self.selection).unwrap_or(0);
+                self.selection = all[step(i, 1, all.len())];
                 true
             }
             Action::SphereSampling => {

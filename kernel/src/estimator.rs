@@ -12,7 +12,7 @@
 use crate::analytic;
 use crate::ids::LightId;
 use crate::light::Light;
-use crate::light_sampler::{LightSampler, ShadingPoint};
+use crate::light_sampler::{LightSampler, SelectionAt, ShadingPoint};
 use crate::material::Material;
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::mis::{Method, Technique};
@@ -154,7 +154,7 @@ pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
 pub fn estimate_direct_multi_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
-    at: &Shading<'_>,
+    at: &Shading<'_, L>,
     sampler: &mut Sampler,
 ) -> (TechniqueEstimate, TechniqueEstimate) {
     let (mut by_light, mut by_bsdf) = (TechniqueEstimate::default(), TechniqueEstimate::default());
@@ -185,7 +185,7 @@ pub fn estimate_direct_multi_sample<const S: usize, const L: usize, const M: usi
 pub fn estimate_direct_one_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
-    at: &Shading<'_>,
+    at: &Shading<'_, L>,
     sampler: &mut Sampler,
 ) -> (TechniqueEstimate, TechniqueEstimate) {
     let (mut by_light, mut by_bsdf) = (TechniqueEstimate::default(), TechniqueEstimate::default());
@@ -223,16 +223,17 @@ fn add_bsdf_sample(to: &mut TechniqueEstimate, method: Method, s: &Found, m_ligh
     to.add(s.value * (w / m_bsdf), w);
 }
 
-/// A shading point as the techniques see it: the BSDF, the local frame and `wo` in it.
-#[derive(Clone, Copy, Debug)]
-pub struct Shading<'a> {
+/// A shading point as the techniques see it: the BSDF, the local frame and `wo` in it, and the
+/// light selection there (`L`: the scene's light capacity).
+#[derive(Clone, Debug)]
+pub struct Shading<'a, const L: usize> {
     x: &'a Hit,
     bsdf: &'a Material,
     frame: Frame,
     /// `wo` in the local frame.
     wo: Vec3,
-    /// The shading point as the light sampler sees it (world `wo`).
-    point: ShadingPoint,
+    /// Light selection here, shared by light samples and the BSDF samples' weights.
+    selection: SelectionAt<L>,
     /// The control variate applies here (it is on and the receiver is Lambertian).
     control_variate: bool,
     /// Bit i: light i's unoccluded part is in closed form here.
@@ -241,10 +242,10 @@ pub struct Shading<'a> {
     unoccluded: Rgb,
 }
 
-impl<'a> Shading<'a> {
+impl<'a, const L: usize> Shading<'a, L> {
     /// The shading point `x` seen from `wo`; `None` when its material reflects nothing.
     #[inline]
-    pub fn new<const S: usize, const L: usize, const M: usize>(
+    pub fn new<const S: usize, const M: usize>(
         scene: &'a Scene<S, L, M>,
         settings: &RenderSettings,
         x: &'a Hit,
@@ -252,13 +253,14 @@ impl<'a> Shading<'a> {
     ) -> Option<Self> {
         let bsdf = scene.material(x.object).filter(|m| !m.is_black())?;
         let frame = Frame::from_normal(x.point.n);
-        let point = ShadingPoint { p: x.point.p, n: x.point.n, wo };
+        let point = ShadingPoint { p: x.point.p, n: x.point.n, wo, bsdf: *bsdf };
+        let selection = light_sampler(scene, settings).selection_at(&point);
         let wo = frame.to_local(wo);
         let control_variate =
             settings.control_variate() == ControlVariate::On && matches!(bsdf, Material::Lambertian { .. });
         let (covered, unoccluded) =
             if control_variate { analytic::unoccluded_light(scene, bsdf, x, wo.z) } else { (0, Rgb::ZERO) };
-        Some(Shading { x, bsdf, frame, wo, point, control_variate, covered, unoccluded })
+        Some(Shading { x, bsdf, frame, wo, selection, control_variate, covered, unoccluded })
     }
 
     /// Whether light `light`'s part is sampled as f (V - 1) (its unoccluded part is in closed form).
@@ -294,15 +296,15 @@ struct Found {
 fn light_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
-    at: &Shading<'_>,
+    at: &Shading<'_, L>,
     sampler: &mut Sampler,
 ) -> Option<Found> {
     let lights = light_sampler(scene, settings);
     let p = at.x.point.p;
-    let u_select = sampler.next_f32();
-    let u: Vec2 = sampler.next_2d();
-    let chosen = lights.select(&at.point, u_select)?;
-    let ls = lights.sample(chosen.light, p, u)?;
+    // One 2-D request: its first number chooses the light and, rescaled, places the point.
+    let (u_select, v) = sampler.next_2d_reusable();
+    let (chosen, u) = lights.select_reusing(&at.selection, u_select)?;
+    let ls = lights.sample(chosen.light, p, Vec2::new(u, v))?;
     // The light technique's pdf of this direction: p_l = P(light) p_w(wi | light).
     let p_light = chosen.probability * ls.pdf;
     let wi = at.frame.to_local(ls.wi);
@@ -328,7 +330,7 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
 fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
-    at: &Shading<'_>,
+    at: &Shading<'_, L>,
     sampler: &mut Sampler,
     mut found: impl FnMut(Found),
 ) {
@@ -347,7 +349,7 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
             return;
         }
         let pdf = pdf();
-        let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, p, &y.point);
+        let pdf_other = lights.pmf(&at.selection, light) * lights.pdf(light, p, &y.point);
         found(Found { value: bs.weight * radiance, pdf, pdf_other, delta: false });
         return;
     }
@@ -359,7 +361,7 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
             (false, false) | (true, true) => return,
         };
         if radiance != Rgb::ZERO {
-            let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, p, &y.point);
+            let pdf_other = lights.pmf(&at.selection, light) * lights.pdf(light, p, &y.point);
             found(Found { value, pdf, pdf_other, delta: false });
         }
     });

@@ -1,82 +1,150 @@
-//! How much light a light may send to a shading point, estimated from the light alone: its
-//! radiance (or intensity), the solid angle it subtends, and the cosines at both ends. Light
-//! selection by contribution picks lights in proportion to this estimate, O(lights) per sample.
+//! How much light a light may send to a shading point, estimated in O(1) per light from the
+//! light alone ([`LightCone`]: the cone of directions it arrives from, its radiance and solid
+//! angle), and how much of it the BSDF may reflect towards the viewer. Light selection by
+//! contribution ([`LightSelection::Contribution`](crate::light_sampler::LightSelection)) picks
+//! lights in proportion to a mixture of the two estimates.
 //!
-//! The estimate is an importance, not a bound, but it is zero only where the light certainly
-//! sends nothing (wholly below the receiver's horizon, the receiver behind a one-sided quad or
-//! inside a sphere): any light that can contribute keeps a non-zero probability, so selection by
-//! it stays unbiased.
+//! Both are importances, not bounds, but [`light_importance`] is zero only where the light
+//! certainly sends nothing (wholly below the receiver's horizon, the receiver behind a one-sided
+//! quad or inside a sphere): with a share of it in the mixture, any light that can contribute
+//! keeps a non-zero probability, so selection by it stays unbiased.
 
 use crate::light::Light;
-use crate::math::{PI, Vec3, luminance, max0, safe_sqrt, sqrt};
-use crate::sampling::cone_one_minus_cos;
+use crate::material::Material;
+use crate::math::{Frame, PI, Vec3, clamp, finite3, luminance, max0, safe_sqrt, sqrt, try_normalize};
 use crate::shape::Shape;
 
-/// Largest cosine between the receiver's normal `n` and any direction in the cone of half-angle
-/// theta_max around unit `w` (`sin2_max` = sin^2 theta_max): 1 when the cone holds the normal,
-/// else cos(theta - theta_max), clamped at 0 (the cone is wholly below the horizon).
+/// What a point sees of a light: a cone of directions that holds every direction to it, and
+/// how bright it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightCone {
+    /// Unit direction towards the light's centre.
+    pub axis: Vec3,
+    /// Sine of the cone's half-angle theta_max (below pi / 2): 0 for a point light; 2 for a cone
+    /// of every direction (the point is within a quad light's bounding sphere).
+    pub sin_max: f32,
+    /// Luminance of the radiance times the solid angle, estimated as pi r^2 / d^2 (spheres) or
+    /// A cos / d^2 (quads), at most 2 pi; or the luminance of the intensity over the squared
+    /// distance (point lights): about the irradiance at normal incidence.
+    pub strength: f32,
+    /// Luminance of the radiance (area lights): the reflected radiance is at most this times
+    /// the BSDF's albedo. `None` for point lights.
+    pub radiance: Option<f32>,
+}
+
+/// [`LightCone::sin_max`] of a cone of every direction.
+const EVERY_DIRECTION: f32 = 2.0;
+
+/// The cone of `light` (emitting from `shape` for area lights) seen from `x`; `None` where it
+/// certainly sends nothing to `x` (a point light at `x`, `x` inside or on a sphere light, or
+/// behind a quad light's plane) or the estimate is not finite. One square root and one division.
 #[inline]
-fn max_cosine(n: Vec3, w: Vec3, sin2_max: f32) -> f32 {
-    let cos_c = n.dot(w);
-    let cos_max = safe_sqrt(1.0 - sin2_max);
-    if cos_c >= cos_max {
-        return 1.0;
+pub fn light_cone(light: &Light, shape: Option<&Shape>, x: Vec3) -> Option<LightCone> {
+    let cone = match *light {
+        Light::Point { position, intensity } => {
+            let v = position - x;
+            let d2 = v.length_squared();
+            if !(d2 > 0.0) {
+                return None;
+            }
+            let inv_d = 1.0 / sqrt(d2);
+            let strength = max0(luminance(intensity)) * (inv_d * inv_d);
+            LightCone { axis: v * inv_d, sin_max: 0.0, strength, radiance: None }
+        }
+        Light::Area { radiance, .. } => {
+            let shape = shape?;
+            let le = max0(luminance(radiance));
+            let v = shape.centroid() - x;
+            let d2 = v.length_squared();
+            let r = shape.bounding_radius();
+            let radiance = Some(le);
+            let sphere = shape.as_sphere().is_some();
+            // A quad emits on the side of its normal only; `x` behind its plane sees none.
+            let facing = if sphere { 1.0 } else { shape.normal_at(x).dot(-v) };
+            if !(facing > 0.0) {
+                return None;
+            }
+            if d2 > r * r {
+                let inv_d = 1.0 / sqrt(d2);
+                let sin_max = r * inv_d;
+                let solid_angle = match sphere {
+                    true => PI * (sin_max * sin_max),
+                    false => (shape.area() * facing) * (inv_d * inv_d * inv_d),
+                };
+                LightCone { axis: v * inv_d, sin_max, strength: le * solid_angle.min(2.0 * PI), radiance }
+            } else if sphere {
+                // Inside or on a sphere light: its outward front side faces away.
+                return None;
+            } else {
+                // Within a quad's bounding sphere: up to the whole hemisphere.
+                let axis = try_normalize(v).unwrap_or(Vec3::Z);
+                LightCone { axis, sin_max: EVERY_DIRECTION, strength: le * 2.0 * PI, radiance }
+            }
+        }
+    };
+    (cone.strength.is_finite() && finite3(cone.axis)).then_some(cone)
+}
+
+/// The direction of the cone of `sin_max` around unit `axis` nearest to unit `t`: `t` itself
+/// inside the cone, else the axis turned towards `t` by the half-angle.
+#[inline]
+fn nearest_in_cone(axis: Vec3, sin_max: f32, t: Vec3) -> Vec3 {
+    if sin_max >= 1.0 {
+        return t;
     }
-    let sin_c = safe_sqrt(1.0 - cos_c * cos_c);
-    max0(cos_c * cos_max + sin_c * sqrt(max0(sin2_max)))
+    let cos_a = axis.dot(t);
+    let cos_max = safe_sqrt(1.0 - sin_max * sin_max);
+    if cos_a >= cos_max {
+        return t;
+    }
+    match try_normalize(t - axis * cos_a) {
+        Some(side) => axis * cos_max + side * sin_max,
+        None => axis,
+    }
+}
+
+/// Whether selection by contribution weighs lights by `bsdf` beyond their importance: not for a
+/// Lambertian receiver, whose f cos is albedo / pi times the cosine the importance already has.
+#[inline]
+pub fn weighs_bsdf(bsdf: &Material) -> bool {
+    !matches!(bsdf, Material::Lambertian { .. })
+}
+
+impl LightCone {
+    /// The importance at a receiver with unit normal `n`: strength times min(1, cos theta +
+    /// sin theta_max), theta the angle between `n` and the axis: about the largest receiver
+    /// cosine in the cone, and zero exactly when the cone is wholly below the horizon
+    /// (theta >= pi / 2 + theta_max). No square root.
+    #[inline]
+    pub fn importance(&self, n: Vec3) -> f32 {
+        let cosine = clamp(n.dot(self.axis) + self.sin_max, 0.0, 1.0);
+        let importance = self.strength * cosine;
+        if importance.is_finite() { importance } else { 0.0 }
+    }
+
+    /// The estimated reflected radiance towards `wo` (local, in `frame`) of a receiver with
+    /// `bsdf`: strength times f cos (luminance) in the direction of the cone nearest the BSDF's
+    /// lobe axis ([`Material::lobe_axis`]), at most the radiance times the albedo bound. Zero
+    /// where that direction is below the horizon, though other directions of the cone may not
+    /// be: not a bound (see [`weighs_bsdf`] for Lambertian receivers).
+    #[inline]
+    pub fn contribution(&self, bsdf: &Material, frame: &Frame, wo: Vec3) -> f32 {
+        let w = nearest_in_cone(frame.to_local(self.axis), self.sin_max, bsdf.lobe_axis(wo));
+        let estimate = self.strength * max0(luminance(bsdf.eval(wo, w)));
+        let estimate = match self.radiance {
+            Some(le) => estimate.min(le * max0(luminance(bsdf.albedo_bound()))),
+            None => estimate,
+        };
+        if estimate.is_finite() { estimate } else { 0.0 }
+    }
 }
 
 /// The importance of `light` (emitting from `shape` for area lights) at point `x` with unit
 /// normal `n`: luminance of the radiance times the subtended solid angle times the largest
 /// receiver cosine (spheres and quads), or luminance of the intensity over the squared distance
-/// times the receiver cosine (point lights). Finite and non-negative for finite input.
+/// times the receiver cosine (point lights). Finite and non-negative.
 pub fn light_importance(light: &Light, shape: Option<&Shape>, x: Vec3, n: Vec3) -> f32 {
-    let importance = match *light {
-        Light::Point { position, intensity } => {
-            let v = position - x;
-            let d2 = v.length_squared();
-            if !(d2 > 0.0) {
-                return 0.0;
-            }
-            max0(luminance(intensity)) * max0(n.dot(v)) / (d2 * sqrt(d2))
-        }
-        Light::Area { radiance, .. } => {
-            let Some(shape) = shape else { return 0.0 };
-            let le = max0(luminance(radiance));
-            let c = shape.centroid();
-            let v = c - x;
-            let d2 = v.length_squared();
-            let r = shape.bounding_radius();
-            let r2 = r * r;
-            match shape.as_sphere() {
-                // Inside or on a sphere light: its outward front side faces away.
-                Some(_) if !(d2 > r2) => return 0.0,
-                Some(_) => {
-                    let sin2 = r2 / d2;
-                    let w = v / sqrt(d2);
-                    le * 2.0 * PI * cone_one_minus_cos(sin2) * max_cosine(n, w, sin2)
-                }
-                None => {
-                    // A quad emits on the side of its normal only; `x` behind its plane sees none.
-                    let n_l = shape.normal_at(c);
-                    let behind = n_l.dot(-v);
-                    if !(behind > 0.0) {
-                        return 0.0;
-                    }
-                    if !(d2 > r2) {
-                        // Within the bounding sphere: up to the whole hemisphere.
-                        le * 2.0 * PI
-                    } else {
-                        let d = sqrt(d2);
-                        let w = v / d;
-                        let solid_angle = (shape.area() * behind / (d2 * d)).min(2.0 * PI);
-                        le * solid_angle * max_cosine(n, w, r2 / d2)
-                    }
-                }
-            }
-        }
-    };
-    if importance.is_finite() { importance } else { 0.0 }
+    light_cone(light, shape, x).map_or(0.0, |cone| cone.importance(n))
 }
 
 #[cfg(test)]
@@ -93,8 +161,9 @@ mod tests {
         let s = Shape::sphere(Vec3::new(0.0, 10.0, 0.0), 1.0).unwrap();
         let (light, shape) = area(&s, 3.0);
         let got = light_importance(&light, Some(&shape), Vec3::ZERO, Vec3::Y);
+        // pi r^2 / d^2 is the cone's solid angle to 0.3 %.
         let omega = 2.0 * PI * (1.0 - (1.0f32 - 0.01).sqrt());
-        assert!((got / (3.0 * omega) - 1.0).abs() < 1e-4, "{got}");
+        assert!((got / (3.0 * omega) - 1.0).abs() < 3e-3, "{got}");
         // Twice as far: about a quarter.
         let s2 = Shape::sphere(Vec3::new(0.0, 20.0, 0.0), 1.0).unwrap();
         let far = light_importance(&light, Some(&s2), Vec3::ZERO, Vec3::Y);
@@ -142,15 +211,52 @@ mod tests {
     }
 
     #[test]
-    fn the_largest_cosine_is_that_of_the_cone_edge_nearest_the_normal() {
-        // Cone axis 60 degrees off the normal, half-angle 30: the edge touches the normal.
-        let w = Vec3::new(60f32.to_radians().sin(), 60f32.to_radians().cos(), 0.0);
-        let s2 = 30f32.to_radians().sin().powi(2);
-        assert!((max_cosine(Vec3::Y, w, s2) - 30f32.to_radians().cos()).abs() < 1e-5);
-        let s2 = 60f32.to_radians().sin().powi(2);
-        assert_eq!(max_cosine(Vec3::Y, w, s2), 1.0);
-        // Axis 120 degrees off, half-angle 20: wholly below.
-        let w = Vec3::new(120f32.to_radians().sin(), 120f32.to_radians().cos(), 0.0);
-        assert_eq!(max_cosine(Vec3::Y, w, 20f32.to_radians().sin().powi(2)), 0.0);
+    fn the_receiver_cosine_is_about_that_of_the_cone_edge_nearest_the_normal() {
+        let cone = |deg: f32, half: f32| LightCone {
+            axis: Vec3::new(deg.to_radians().sin(), deg.to_radians().cos(), 0.0),
+            sin_max: half.to_radians().sin(),
+            strength: 1.0,
+            radiance: None,
+        };
+        // Cone axis 60 degrees off the normal, half-angle 20: the edge is 40 degrees off.
+        let c = cone(60.0, 20.0).importance(Vec3::Y);
+        assert!((c / 40f32.to_radians().cos() - 1.0).abs() < 0.15, "{c}");
+        // Half-angle 60: the cone holds the normal.
+        assert_eq!(cone(60.0, 60.0).importance(Vec3::Y), 1.0);
+        // Axis 120 degrees off, half-angle 20 (wholly below) or 40 (partly above).
+        assert_eq!(cone(120.0, 20.0).importance(Vec3::Y), 0.0);
+        assert!(cone(120.0, 40.0).importance(Vec3::Y) > 0.0);
+        // Every direction.
+        let mut every = cone(180.0, 0.0);
+        every.sin_max = EVERY_DIRECTION;
+        assert_eq!(every.importance(Vec3::Y), 1.0);
+    }
+
+    #[test]
+    fn the_bsdf_weighs_the_light_nearest_its_lobe() {
+        use crate::material::Material;
+        // A near-mirror receiver at the origin; wo mirrors to the direction of light a.
+        let wo_world = Vec3::new(-1.0, 1.0, 0.0).normalize();
+        let frame = Frame::from_normal(Vec3::Y);
+        let wo = frame.to_local(wo_world);
+        let ggx = Material::ggx_conductor(0.01, Rgb::splat(0.9)).unwrap();
+        let a = Shape::sphere(Vec3::new(3.0, 3.0, 0.0), 0.3).unwrap();
+        let b = Shape::sphere(Vec3::new(-3.0, 3.0, 0.0), 0.3).unwrap();
+        let (la, sa) = area(&a, 1.0);
+        let (lb, sb) = area(&b, 1.0);
+        let ca = light_cone(&la, Some(&sa), Vec3::ZERO).unwrap();
+        let cb = light_cone(&lb, Some(&sb), Vec3::ZERO).unwrap();
+        // Equal importance, very different contributions.
+        assert!((ca.importance(Vec3::Y) / cb.importance(Vec3::Y) - 1.0).abs() < 1e-5);
+        let (fa, fb) = (ca.contribution(&ggx, &frame, wo), cb.contribution(&ggx, &frame, wo));
+        assert!(fa > 1e3 * fb && fb > 0.0, "{fa} {fb}");
+        // The mirror direction misses light a's centre but meets its edge: still the peak, capped
+        // at radiance x reflectance.
+        let edge = Shape::sphere(Vec3::new(3.0, 3.0, 0.25), 0.3).unwrap();
+        let (le, se) = area(&edge, 1.0);
+        let ce = light_cone(&le, Some(&se), Vec3::ZERO).unwrap();
+        assert!(ce.contribution(&ggx, &frame, wo) >= 0.5 * fa, "{}", ce.contribution(&ggx, &frame, wo));
+        assert!(fa <= 0.9 * luminance(Rgb::ONE) + 1e-6);
+        assert!(weighs_bsdf(&ggx) && !weighs_bsdf(&Material::lambertian(Rgb::ONE).unwrap()));
     }
 }

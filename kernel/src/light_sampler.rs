@@ -1,11 +1,11 @@
 //! The light sampler: light sampling's one home. It chooses a light for a light sample
-//! ([`LightSelection`]: uniformly or by power) and draws a direction to a point on it (sphere
-//! lights by area or in the cone they subtend, [`SphereSampling`]), and it evaluates the
-//! probabilities of what it drew, as pairs:
+//! ([`LightSelection`]: uniformly, by power, or by estimated contribution at the shading point)
+//! and draws a direction to a point on it (sphere lights by area or in the cone they subtend,
+//! [`SphereSampling`]), and it evaluates the probabilities of what it drew, as pairs:
 //!
 //! - [`LightSampler::select`] / [`LightSampler::pmf`]: the light and its selection probability
-//!   P(light), given the shading point (future strategies may weigh lights by their estimated
-//!   contribution there; uniform and power selection do not look at it);
+//!   P(light) at a shading point, both read from the point's [`SelectionAt`]
+//!   ([`LightSampler::selection_at`], computed once per shading point), so they cannot disagree;
 //! - [`LightSampler::sample`] / [`LightSampler::pdf`]: the light sample and its pdf per unit solid
 //!   angle at `x`, p_w(wi | light), selection not included ([`LightSample::pdf`]).
 //!
@@ -13,10 +13,13 @@
 
 use crate::ids::{LightId, ShapeId};
 use crate::light::Light;
+use crate::light_importance::{light_cone, weighs_bsdf};
+use crate::material::Material;
 use crate::math::{Frame, Rgb, Vec2, Vec3, max0, safe_sqrt, sqrt};
 use crate::sampling::{
-    SphericalRectangle, cone_one_minus_cos, sample_spherical_rectangle, sample_uniform_cone,
-    spherical_rectangle, spherical_rectangle_pdf, uniform_cone_pdf,
+    GRID, GridDistribution, SphericalRectangle, cone_one_minus_cos, sample_spherical_rectangle,
+    sample_uniform_cone, sample_uniform_index, spherical_rectangle, spherical_rectangle_pdf,
+    uniform_cone_pdf, uniform_index_pmf,
 };
 use crate::scene::Scene;
 use crate::shape::Rectangle;
@@ -55,9 +58,53 @@ pub enum LightSelection {
     #[default]
     Uniform,
     /// Proportional to emitted power (luminance), on the grid of the random number (see
-    /// [`GridDistribution`](crate::sampling::GridDistribution)): every light that emits is
-    /// chosen with exactly the probability the weights are given.
+    /// [`GridDistribution`]): every light that emits is chosen with exactly the probability the
+    /// weights are given.
     Power,
+    /// Proportional to each light's estimated contribution at the shading point, BSDF included
+    /// ([`LightCone::contribution`](crate::light_importance::LightCone::contribution)), mixed
+    /// with a share [`CONTRIBUTION_FLOOR`] of its BSDF-free importance
+    /// ([`LightCone::importance`](crate::light_importance::LightCone::importance)) so that every
+    /// light that can contribute keeps a non-zero probability (on Lambertian receivers, by the
+    /// importance alone); on the grid of the random number like power. A scene's only light is
+    /// chosen with probability one; a light that certainly sends nothing to the point is never
+    /// chosen. Costs O(lights) per shading point.
+    Contribution,
+}
+
+/// The share of the BSDF-free importance in light selection by contribution: every light that
+/// can send light to the shading point is chosen with at least this share of its importance's
+/// probability, even where the BSDF toward its centre is zero (a near-mirror GGX lobe that
+/// misses the centre of a light whose edge it sees).
+pub const CONTRIBUTION_FLOOR: f32 = 0.1;
+
+impl LightSelection {
+    /// Every strategy, the default first.
+    pub const ALL: [LightSelection; 3] =
+        [LightSelection::Uniform, LightSelection::Power, LightSelection::Contribution];
+
+    /// The strategy's name (command line, the page, charts).
+    pub fn name(self) -> &'static str {
+        match self {
+            LightSelection::Uniform => "uniform",
+            LightSelection::Power => "power",
+            LightSelection::Contribution => "contribution",
+        }
+    }
+
+    /// One line about the strategy (command-line help).
+    pub fn summary(self) -> &'static str {
+        match self {
+            LightSelection::Uniform => "every light equally likely",
+            LightSelection::Power => "proportional to emitted power",
+            LightSelection::Contribution => "proportional to the estimated contribution at the shading point",
+        }
+    }
+
+    /// The strategy called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| s.name() == name)
+    }
 }
 
 /// The point light is sampled for.
@@ -69,6 +116,17 @@ pub struct ShadingPoint {
     pub n: Vec3,
     /// Unit direction towards the viewer (world).
     pub wo: Vec3,
+    /// The receiver's BSDF (selection by contribution weighs lights by it).
+    pub bsdf: Material,
+}
+
+/// Light selection at one shading point: what [`LightSampler::select`] draws from and
+/// [`LightSampler::pmf`] reads, computed once by [`LightSampler::selection_at`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SelectionAt<const L: usize> {
+    /// The lights' probabilities here (selection by contribution); empty for the strategies
+    /// that do not depend on the point, and where no light can contribute.
+    local: GridDistribution<L>,
 }
 
 /// A light chosen for a light sample.
@@ -122,34 +180,97 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         self
     }
 
-    /// Chooses a light with the random number `u`; `None` when the scene has no light.
+    /// Light selection at `at`: for selection by contribution, each light's estimated
+    /// contribution there mixed with its importance (O(lights)); nothing for the others.
     #[inline]
-    pub fn select(&self, _at: &ShadingPoint, u: f32) -> Option<LightChoice> {
-        let n = self.scene.lights().len();
-        if n == 0 {
-            return None;
+    pub fn selection_at(&self, at: &ShadingPoint) -> SelectionAt<L> {
+        if !self.selects_locally() {
+            return SelectionAt { local: GridDistribution::default() };
         }
-        if let LightSelection::Power = self.selection {
-            if let Some((i, probability)) = self.scene.light_powers().sample(u) {
-                return Some(LightChoice { light: LightId::new(i as u16), probability });
+        let lights = self.scene.lights();
+        let n = lights.len().min(L);
+        // The BSDF's part, if it has one: in the receiver's frame.
+        let bsdf = weighs_bsdf(&at.bsdf).then(|| {
+            let frame = Frame::from_normal(at.n);
+            (frame, frame.to_local(at.wo))
+        });
+        let (mut importance, mut contribution) = ([0.0f32; L], [0.0f32; L]);
+        for (k, light) in lights.iter().enumerate().take(n) {
+            if let Some(cone) = light_cone(light, self.scene.light_shape(light), at.p) {
+                importance[k] = cone.importance(at.n);
+                if let Some((frame, wo)) = &bsdf {
+                    contribution[k] = cone.contribution(&at.bsdf, frame, *wo);
+                }
             }
         }
-        // Uniform (also when no light has power).
-        let i = ((u * n as f32) as usize).min(n - 1);
-        Some(LightChoice { light: LightId::new(i as u16), probability: 1.0 / n as f32 })
+        let importance = &mut importance[..n];
+        if bsdf.is_some() {
+            // The mixture (1 - floor) c_k / sum c + floor i_k / sum i, each part where it has a sum.
+            let sum = |w: &[f32]| w.iter().sum::<f32>();
+            let (total_i, total_c) = (sum(importance), sum(&contribution[..n]));
+            let (scale_i, scale_c) = match (total_i > 0.0, total_c > 0.0) {
+                (true, true) => (CONTRIBUTION_FLOOR / total_i, (1.0 - CONTRIBUTION_FLOOR) / total_c),
+                (false, true) => (0.0, 1.0),
+                (_, false) => (1.0, 0.0),
+            };
+            for (i, c) in importance.iter_mut().zip(&contribution) {
+                *i = *i * scale_i + *c * scale_c;
+            }
+        }
+        SelectionAt { local: GridDistribution::new(importance) }
     }
 
-    /// The probability with which [`LightSampler::select`] chooses `light` at `at`.
+    /// True when the selection depends on the shading point: by contribution, among several
+    /// lights (a single light is chosen with probability one, like uniform selection does).
     #[inline]
-    pub fn pmf(&self, _at: &ShadingPoint, light: LightId) -> f32 {
+    fn selects_locally(&self) -> bool {
+        self.selection == LightSelection::Contribution && self.scene.lights().len() > 1
+    }
+
+    /// Chooses a light at the shading point of `at` with the random number `u` in [0, 1) (on
+    /// the 2^24 grid of [`Sampler::next_f32`](crate::rng::Sampler::next_f32)); `None` when the
+    /// scene has no light (or, selecting by contribution, no light can contribute there).
+    #[inline]
+    pub fn select(&self, at: &SelectionAt<L>, u: f32) -> Option<LightChoice> {
+        let k = ((u * GRID as f32) as u32).min(GRID - 1);
+        self.select_reusing(at, k << 8).map(|(chosen, _)| chosen)
+    }
+
+    /// Chooses a light like [`LightSampler::select`] with the top 24 of the 32 random `bits`,
+    /// and returns with it the bits rescaled within the chosen light's share of the numbers
+    /// ([`DiscreteSample::reused`](crate::sampling::DiscreteSample::reused)): uniform in [0, 1) and independent of the choice, the first
+    /// coordinate of the point on the light, so that selection and position stay one
+    /// stratified 2-D sample ([`Sampler::next_2d_reusable`](crate::rng::Sampler::next_2d_reusable)).
+    #[inline]
+    pub fn select_reusing(&self, at: &SelectionAt<L>, bits: u32) -> Option<(LightChoice, f32)> {
+        let powers = self.scene.light_powers();
+        let drawn = if self.selects_locally() {
+            at.local.sample_reusing(bits)
+        } else if self.selection == LightSelection::Power && !powers.is_empty() {
+            powers.sample_reusing(bits)
+        } else {
+            // Uniform (also when no light has power).
+            sample_uniform_index(bits, self.scene.lights().len())
+        }?;
+        let chosen = LightChoice { light: LightId::new(drawn.index as u16), probability: drawn.probability };
+        Some((chosen, drawn.reused))
+    }
+
+    /// The probability with which [`LightSampler::select`] chooses `light` at the shading point
+    /// of `at`.
+    #[inline]
+    pub fn pmf(&self, at: &SelectionAt<L>, light: LightId) -> f32 {
         let n = self.scene.lights().len();
         if light.index() >= n {
             return 0.0;
         }
+        if self.selects_locally() {
+            return at.local.pmf(light.index());
+        }
         let powers = self.scene.light_powers();
         match self.selection {
             LightSelection::Power if !powers.is_empty() => powers.pmf(light.index()),
-            _ => 1.0 / n as f32,
+            _ => uniform_index_pmf(n),
         }
     }
 
@@ -346,9 +467,12 @@ mod tests {
     #[test]
     fn selection_probabilities_sum_to_one_and_are_realised() {
         let s = scene();
-        let at = ShadingPoint { p: Vec3::new(0.0, 3.0, 0.0), n: Vec3::Y, wo: Vec3::Y };
-        for sel in [LightSelection::Uniform, LightSelection::Power] {
+        let bsdf = Material::lambertian(Rgb::ONE).unwrap();
+        // Facing down: the sphere light and the bright point light are above its horizon.
+        let point = ShadingPoint { p: Vec3::new(0.0, 3.0, 0.0), n: -Vec3::Y, wo: -Vec3::Y, bsdf };
+        for sel in LightSelection::ALL {
             let lights = LightSampler::new(&s, sel, SphereSampling::Cone);
+            let at = lights.selection_at(&point);
             let sum: f32 = (0..3).map(|i| lights.pmf(&at, LightId::new(i))).sum();
             assert!((sum - 1.0).abs() < 1e-6);
             assert_eq!(lights.pmf(&at, LightId::new(3)), 0.0);
@@ -358,6 +482,15 @@ mod tests {
                 assert!(c.probability > 0.0 && c.probability == lights.pmf(&at, c.light));
             }
         }
+    }
+
+    #[test]
+    fn selection_names_round_trip() {
+        for s in LightSelection::ALL {
+            assert_eq!(LightSelection::from_name(s.name()), Some(s));
+        }
+        assert_eq!(LightSelection::from_name("random"), None);
+        assert_eq!(LightSelection::ALL[0], LightSelection::default());
     }
 
     #[test]

@@ -66,12 +66,29 @@ impl Material {
     /// True when the material reflects nothing (f = 0 everywhere): direct lighting is skipped.
     #[inline]
     pub fn is_black(&self) -> bool {
-        let c = match self {
-            Material::Lambertian { albedo } => albedo,
-            Material::GgxConductor { reflectance, .. } => reflectance,
-        };
+        let c = self.albedo_bound();
         // Compare-and-branch rather than `max_element` (an `fmaxf` call on Cortex-M).
         !(c.x > 0.0 || c.y > 0.0 || c.z > 0.0)
+    }
+
+    /// The local direction about which f cos gathers for `wo`: the normal for a Lambertian
+    /// surface, the mirror direction of `wo` for GGX (where its lobe peaks as alpha goes to 0).
+    #[inline]
+    pub fn lobe_axis(&self, wo: Vec3) -> Vec3 {
+        match self {
+            Material::Lambertian { .. } => Vec3::Z,
+            Material::GgxConductor { .. } => Vec3::new(-wo.x, -wo.y, wo.z),
+        }
+    }
+
+    /// A bound of the directional albedo, the integral of f cos over all `wi`, per channel: the
+    /// albedo, or the GGX reflectance (G1(wi) <= 1 and the visible normals integrate to one).
+    #[inline]
+    pub fn albedo_bound(&self) -> Rgb {
+        match *self {
+            Material::Lambertian { albedo } => albedo,
+            Material::GgxConductor { reflectance, .. } => reflectance,
+        }
     }
 
     /// f(wo, wi) cos(theta_i).

@@ -185,17 +185,27 @@ impl Sampler {
     /// Two uniform numbers in [0, 1)^2, stratified together by the sobol stream.
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
+        let (x, y) = self.next_2d_reusable();
+        Vec2::new(to_unit(x), y)
+    }
+
+    /// A 2-D request like [`Sampler::next_2d`] whose first coordinate comes as its 32 bits (its
+    /// top 24 are the `x` that `next_2d` would give): for a number that makes a discrete choice
+    /// and is then reused, rescaled within the chosen option's share, as the first coordinate
+    /// of a stratified pair (see [`LightSampler::select`](crate::light_sampler::LightSampler)).
+    #[inline]
+    pub fn next_2d_reusable(&mut self) -> (u32, f32) {
         match self.kind {
             SamplerKind::Independent => {
-                let x = to_unit(self.pcg_next());
-                Vec2::new(x, to_unit(self.pcg_next()))
+                let x = self.pcg_next();
+                (x, to_unit(self.pcg_next()))
             }
             SamplerKind::Sobol => {
                 let (hash, index) = self.sobol_request();
                 let (s0, s1) = (hash.wrapping_mul(SEED_0), hash.wrapping_mul(SEED_1));
                 let x = owen_reversed(index, s0).reverse_bits();
                 let y = owen_reversed(sobol1_reversed(index), s1).reverse_bits();
-                Vec2::new(to_unit(x), to_unit(y))
+                (x, to_unit(y))
             }
         }
     }

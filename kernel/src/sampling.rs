@@ -249,6 +249,44 @@ pub fn ggx_vndf_pdf(wo: Vec3, m: Vec3, alpha: f32) -> f32 {
     ggx_g1(wo, alpha) * max0(wo.dot(m)) * ggx_d(m, alpha) / wo.z
 }
 
+/// An entry drawn from a discrete distribution with 32 random bits (see
+/// [`Sampler::next_2d_reusable`](crate::rng::Sampler::next_2d_reusable)), and the bits rescaled
+/// within the entry's share: given the entry, `reused` is uniform in [0, 1) and independent of
+/// the choice, so it can stand in for a fresh random number (Mitsuba's `sample_reuse`; here
+/// exact on the integer grid of the bits).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiscreteSample {
+    /// The entry.
+    pub index: usize,
+    /// Its probability.
+    pub probability: f32,
+    /// The bits rescaled within the entry's share, in [0, 1).
+    pub reused: f32,
+}
+
+/// The largest f32 below one.
+const ONE_BELOW: f32 = 1.0 - 1.0 / 16_777_216.0;
+
+/// One of `n` entries, each equally likely, from 32 random bits: the integer part of
+/// `bits x n / 2^32`, and its fractional part as [`DiscreteSample::reused`] (24 bits of it).
+/// `None` when `n` is 0.
+#[inline]
+pub fn sample_uniform_index(bits: u32, n: usize) -> Option<DiscreteSample> {
+    if n == 0 {
+        return None;
+    }
+    let scaled = u64::from(bits) * n as u64;
+    let index = ((scaled >> 32) as usize).min(n - 1);
+    let reused = ((scaled as u32) >> 8) as f32 * (1.0 / 16_777_216.0);
+    Some(DiscreteSample { index, probability: uniform_index_pmf(n), reused })
+}
+
+/// Pmf of [`sample_uniform_index`]: 1 / n (to within 2^-32 of what it realises).
+#[inline]
+pub fn uniform_index_pmf(n: usize) -> f32 {
+    if n == 0 { 0.0 } else { 1.0 / n as f32 }
+}
+
 /// How many equally likely values a random number from
 /// [`Sampler::next_f32`](crate::rng::Sampler::next_f32) takes: its 24 bits, 2^24.
 pub const GRID: u32 = 1 << 24;
@@ -278,22 +316,21 @@ impl<const N: usize> GridDistribution<N> {
         // Each share rounded to the grid, at least one value if positive; the rounding difference
         // (at most N values either way) goes to the largest entry, which has at least GRID / N.
         let scale = GRID as f32 / total;
-        let cells = |w: f32| if w > 0.0 { ((w * scale + 0.5) as u32).clamp(1, GRID) } else { 0 };
-        let mut sum = 0u32;
+        let mut end = 0u32;
         let mut largest = (0, 0);
         for (i, &w) in weights.iter().enumerate() {
-            let c = cells(w);
-            sum += c;
+            let c = if w > 0.0 { ((w * scale + 0.5) as u32).clamp(1, GRID) } else { 0 };
+            end += c;
             if c > largest.1 {
                 largest = (i, c);
             }
-        }
-        let mut end = 0u32;
-        for (i, &w) in weights.iter().enumerate() {
-            let c = if i == largest.0 { (largest.1 + GRID).saturating_sub(sum) } else { cells(w) };
-            end += c;
             // `weights` has at most N entries.
             let _ = ends.push(end);
+        }
+        // The largest entry's run, and every end after it, moves by the rounding difference.
+        let shift = (largest.1 + GRID).saturating_sub(end).wrapping_sub(largest.1);
+        for e in ends.iter_mut().skip(largest.0) {
+            *e = e.wrapping_add(shift);
         }
         Self { ends }
     }
@@ -309,21 +346,39 @@ impl<const N: usize> GridDistribution<N> {
     pub fn sample(&self, u: f32) -> Option<(usize, f32)> {
         // u = k / 2^24 exactly for the sampler's numbers; others are clamped into the grid.
         let k = ((u * GRID as f32) as u32).min(GRID - 1);
-        let i = self.ends.iter().position(|&end| k < end)?;
-        Some((i, self.pmf(i)))
+        self.sample_reusing(k << 8).map(|s| (s.index, s.probability))
+    }
+
+    /// The entry owning the grid value of the top 24 of the 32 random `bits` (the value
+    /// [`GridDistribution::sample`] takes), its probability, and the bits rescaled within its
+    /// run: (value - start + low 8 bits / 256) / (run length).
+    #[inline]
+    pub fn sample_reusing(&self, bits: u32) -> Option<DiscreteSample> {
+        let k = bits >> 8;
+        let index = self.ends.iter().position(|&end| k < end)?;
+        let (start, end) = self.run(index);
+        let count = end - start;
+        // Below count x 256 <= 2^32: (k - start) < count <= 2^24.
+        let fine = ((k - start) << 8) | (bits & 0xff);
+        let reused = (fine as f32 / (count as f32 * 256.0)).min(ONE_BELOW);
+        Some(DiscreteSample { index, probability: count as f32 * (1.0 / GRID as f32), reused })
+    }
+
+    /// The run of grid values entry `i` owns (empty past the end).
+    #[inline]
+    fn run(&self, i: usize) -> (u32, u32) {
+        let start = match i.checked_sub(1) {
+            Some(j) => self.ends.get(j).copied().unwrap_or(0),
+            None => 0,
+        };
+        (start, self.ends.get(i).copied().unwrap_or(start))
     }
 
     /// The probability of entry `i` under [`GridDistribution::sample`]: its share of the grid.
     #[inline]
     pub fn pmf(&self, i: usize) -> f32 {
-        let start = match i.checked_sub(1) {
-            Some(j) => self.ends.get(j).copied().unwrap_or(0),
-            None => 0,
-        };
-        match self.ends.get(i) {
-            Some(&end) => (end - start) as f32 * (1.0 / GRID as f32),
-            None => 0.0,
-        }
+        let (start, end) = self.run(i);
+        (end - start) as f32 * (1.0 / GRID as f32)
     }
 }
 
@@ -368,6 +423,26 @@ mod tests {
     }
 
     #[test]
+    fn uniform_indices_split_the_bits_into_index_and_remainder() {
+        for n in [1usize, 3, 5, 32] {
+            let mut count = [0u32; 32];
+            let mut sum = [0.0f64; 32];
+            for j in 0..(1u32 << 16) {
+                let s = sample_uniform_index(j << 16 | 0x8000, n).unwrap();
+                assert!(s.index < n && (0.0..1.0).contains(&s.reused) && s.probability == 1.0 / n as f32);
+                count[s.index] += 1;
+                sum[s.index] += f64::from(s.reused);
+            }
+            for i in 0..n {
+                let share = f64::from(count[i]) / 65536.0;
+                assert!((share * n as f64 - 1.0).abs() < 1e-3, "n {n}, entry {i}: {share}");
+                assert!((sum[i] / f64::from(count[i]) - 0.5).abs() < 1e-3, "n {n}, entry {i}");
+            }
+        }
+        assert_eq!(sample_uniform_index(7, 0), None);
+    }
+
+    #[test]
     fn grid_distributions_realise_their_pmf_exactly() {
         // Shares from 1 down to 1e-14: each positive weight gets at least one grid value.
         let w = [0.0, 1e5, 1e-9, 3.0, 0.0, 1e-3];
@@ -383,6 +458,18 @@ mod tests {
             assert_eq!(*c > 0, w[i] > 0.0, "entry {i}");
         }
         assert_eq!(counts.iter().sum::<u32>(), GRID);
+        // Reuse: within each entry's run the rescaled bits are evenly spread over [0, 1).
+        let mut sums = [0.0f64; 6];
+        for k in 0..GRID {
+            let s = d.sample_reusing(k << 8 | 0x80).unwrap();
+            assert!((0.0..1.0).contains(&s.reused), "{s:?}");
+            assert_eq!((s.index, s.probability), d.sample(k as f32 / GRID as f32).unwrap());
+            sums[s.index] += f64::from(s.reused);
+        }
+        for (i, sum) in sums.iter().enumerate() {
+            let n = f64::from(counts[i]);
+            assert!(n == 0.0 || (sum / n - 0.5).abs() < 1e-6, "entry {i}: mean {}", sum / n);
+        }
         assert!(GridDistribution::<2>::new(&[0.0, -1.0]).is_empty());
         assert!(GridDistribution::<2>::new(&[f32::INFINITY, 1.0]).is_empty());
         assert_eq!(GridDistribution::<2>::new(&[0.0]).sample(0.5), None);

@@ -83,11 +83,11 @@ impl StudyMethod {
 
 /// The methods of the study, in the lecture's order, with the default sample stream and uniform
 /// light selection; then the power heuristic with independent random numbers (what the
-/// stratified stream gains), and what goes beyond the lecture, each against balance. The
-/// heuristics sample sphere lights by cone. (Every method keeps uniform selection: the Veach
-/// region study renders each light alone, which leaves the selection probabilities unchanged
-/// only under uniform selection.)
-pub fn study_methods() -> [StudyMethod; 12] {
+/// stratified stream gains) and with lights chosen by power and by contribution, and what goes
+/// beyond the lecture, each against balance. The heuristics sample sphere lights by cone. (The
+/// Veach region study renders each light alone, which leaves the selection probabilities
+/// unchanged only under uniform selection: it leaves out the methods that choose otherwise.)
+pub fn study_methods() -> [StudyMethod; 14] {
     let mis = Method::Mis;
     let (cone, area) = (SphereSampling::Cone, SphereSampling::Area);
     let study = |label, title, method, spheres| StudyMethod {
@@ -117,6 +117,15 @@ pub fn study_methods() -> [StudyMethod; 12] {
         StudyMethod {
             extras: Extras { sampler: SamplerKind::Independent, ..Extras::default() },
             ..study("power_independent", "power, independent numbers", power, cone)
+        },
+        // Light selection: by power, and by estimated contribution at the shading point.
+        StudyMethod {
+            extras: Extras { selection: LightSelection::Power, ..Extras::default() },
+            ..study("power_by_power", "power, lights by power", power, cone)
+        },
+        StudyMethod {
+            extras: Extras { selection: LightSelection::Contribution, ..Extras::default() },
+            ..study("power_by_contribution", "power, lights by contribution", power, cone)
         },
         // Beyond the lecture, each against balance.
         StudyMethod {

@@ -74,7 +74,9 @@ def main():
         dr.eval(mi.render(scene, spp=spp, seed=1000))  # compile (JIT) once, untimed
         scenes[name] = (scene, spp)
 
-    configs = [("picomis", [])]
+    # The defaults, and the defaults with light selection by contribution (not the default: it
+    # costs O(lights) per shading point, which does not pay on every scene).
+    configs = [("picomis", []), ("picomis, lights by contribution", ["--light-selection", "contribution"])]
     if args.picomis_config:
         configs = [(c.split("=", 1)[0], c.split("=", 1)[1].split()) for c in args.picomis_config]
     rows = {f"{name}": [] for name, _ in configs}
@@ -83,8 +85,8 @@ def main():
     spps.update({f"Mitsuba 3, {n}": spp for n, spp in MITSUBA})
     os.makedirs(args.work, exist_ok=True)
     for r in range(args.rounds):
-        for name, flags in configs:
-            out = os.path.join(args.work, f"picomis_{r}.exr")
+        for c, (name, flags) in enumerate(configs):
+            out = os.path.join(args.work, f"picomis{c}_{r}.exr")
             cmd = [args.picomis, "render", args.json, "--spp", str(args.spp), "--seed", str(r),
                    "--width", str(args.width), "--height", str(args.height), "--out", out] + flags
             p = subprocess.run(cmd, capture_output=True, text=True, check=True)

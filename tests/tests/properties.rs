@@ -7,7 +7,8 @@
 //! (alpha 1e-4 to 1) or black, some emitting (radiance 0 or 1e-2 to 1e5), plus up to two point
 //! lights (intensity 0 or 1e-2 to 1e3) and a random camera. Settings are random too: every
 //! method (power beta 0.25 to 4, cutoff alpha 0 to 1), 0 to 3 samples per technique, 1 to 3
-//! camera samples, any seed, sphere lights by area or cone, selection uniform or by power.
+//! camera samples, any seed, sphere lights by area or cone, every light selection (uniform, by power,
+//! by contribution).
 //!
 //! Properties:
 //! 1. `render_pixel` outputs are finite and non-negative everywhere (radiance, emission, both
@@ -251,13 +252,14 @@ fn heuristic() -> impl Strategy<Value = Heuristic> {
 fn settings() -> impl Strategy<Value = RenderSettings> {
     let method =
         prop_oneof![Just(Method::LightOnly), Just(Method::BsdfOnly), heuristic().prop_map(Method::Mis)];
-    (method, 0u16..=3, 0u16..=3, 1u32..=3, any::<u32>(), any::<bool>(), any::<bool>()).prop_map(
-        |(method, n_light, n_bsdf, spp, seed, cone, by_power)| {
+    let selection = 0..LightSelection::ALL.len();
+    (method, 0u16..=3, 0u16..=3, 1u32..=3, any::<u32>(), any::<bool>(), selection).prop_map(
+        |(method, n_light, n_bsdf, spp, seed, cone, selection)| {
             let s = RenderSettings::new(method, n_light, n_bsdf, spp, seed)
                 .or_else(|_| RenderSettings::new(method, n_light.max(1), n_bsdf.max(1), spp, seed))
                 .unwrap();
             s.with_sphere_sampling(if cone { SphereSampling::Cone } else { SphereSampling::Area })
-                .with_light_selection(if by_power { LightSelection::Power } else { LightSelection::Uniform })
+                .with_light_selection(LightSelection::ALL[selection])
         },
     )
 }
@@ -401,7 +403,8 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
 
             // A light sample.
             let (u_select, u) = (rng.next_f32(), rng.next_2d());
-            let shading = ShadingPoint { p, n: y.n, wo: frame.to_world(wo) };
+            let point = ShadingPoint { p, n: y.n, wo: frame.to_world(wo), bsdf: material };
+            let shading = lights.selection_at(&point);
             let chosen = lights.select(&shading, u_select);
             let sample = chosen.and_then(|c| Some((c, lights.sample(c.light, p, u)?)));
             if let Some((chosen, ls)) = sample {

@@ -68,7 +68,7 @@ fn pixel_estimates_are_unbiased_with_every_stream_and_sobol_is_stratified() {
         Method::Mis(Heuristic::Power { beta: 2.0 }),
     ];
     for method in methods {
-        for selection in [LightSelection::Uniform, LightSelection::Power] {
+        for selection in LightSelection::ALL {
             let mut variance = Vec::new();
             for kind in SamplerKind::ALL {
                 let settings = RenderSettings::new(method, 1, 1, SPP, 77)

@@ -5,7 +5,8 @@
 //! camera ray), and asserts |mean - exact| < 4 stderr per colour channel with stderr < 2% of
 //! the exact value, so that every check can fail. Methods: light sampling only, BSDF sampling
 //! only, and MIS with every heuristic (average, balance, power 2, 3 and 0.5, maximum,
-//! cutoff 0.1); sphere lights sampled by area and by cone; light selection uniform and by power.
+//! cutoff 0.1); sphere lights sampled by area and by cone; light selection uniform, by power and
+//! by contribution.
 //!
 //! Cases: (a) a Lambertian plane under a sphere light (theta 0 and 60 degrees); (b) a quad light
 //! (Lambert's polygon formula); (c) the furnace: an open box of five emitting walls over a
@@ -13,8 +14,10 @@
 //! sphere light (BSDF sampling cannot see the point light: it gets exactly the sphere's part);
 //! (e) lights of different power; (f) a GGX conductor under a sphere light, against an adaptive
 //! quadrature of the kernel's `Material::eval` over the light's cone (no closed form for GGX);
+//! (g) the same GGX floor (alpha 0.05 and 0.3) under three sphere lights, one near the mirror
+//! direction, with every light selection (contribution weighs the lights by the BSDF);
 //! plus multi-sample counts (n_light = 2, n_bsdf = 3; n_bsdf = 0; n_light = 0) and the
-//! determinism of camera rendering. Every check of (a)-(f) and the counts runs with every sample
+//! determinism of camera rendering. Every check of (a)-(g) and the counts runs with every sample
 //! stream ([`SamplerKind`]); with sobol the N estimates of a check are one scrambled Sobol
 //! sequence, whose mean varies less than the standard error computed as if they were
 //! independent, so the bound stays valid (tests/tests/sampler.rs measures sobol's pixel
@@ -98,7 +101,7 @@ fn check_methods<const S: usize, const L: usize, const M: usize>(
     stream: u32,
 ) {
     let hit = shading_hit(picomis::ShapeId::new(0), Vec3::ZERO, Vec3::Y);
-    let wo = Vec3::new(0.3, 0.9, -0.2).normalize();
+    let wo = check_wo();
     for kind in SamplerKind::ALL {
         for (k, (name, method)) in methods.iter().enumerate() {
             let s = settings(*method, counts.0, counts.1)
@@ -112,6 +115,11 @@ fn check_methods<const S: usize, const L: usize, const M: usize>(
             assert_unbiased_rgb(&label, &st.total, exact, MAX_REL_STDERR);
         }
     }
+}
+
+/// The view direction of [`check_methods`].
+fn check_wo() -> Vec3 {
+    Vec3::new(0.3, 0.9, -0.2).normalize()
 }
 
 fn report(label: &str, st: &RgbStats, exact: [f64; 3]) {
@@ -251,7 +259,7 @@ fn c_furnace() {
     // A camera ray from inside the box to a point near the floor's centre.
     let origin = Vec3::new(0.2, 0.6, -0.1);
     let ray = Ray { origin, dir: (Vec3::new(0.05, 0.0, 0.03) - origin).normalize() };
-    let selections = [LightSelection::Uniform, LightSelection::Power];
+    let selections = LightSelection::ALL;
     for (kind, (k, selection)) in
         SamplerKind::ALL.into_iter().flat_map(|s| selections.into_iter().enumerate().map(move |x| (s, x)))
     {
@@ -289,8 +297,8 @@ fn d_point_light_plus_sphere_light() {
     let total = add(sphere_part, point_part);
     let mis: Vec<(String, Method)> = methods().into_iter().filter(|(_, m)| *m != Method::BsdfOnly).collect();
     for (k, spheres) in [SphereSampling::Area, SphereSampling::Cone].into_iter().enumerate() {
-        for (j, selection) in [LightSelection::Uniform, LightSelection::Power].into_iter().enumerate() {
-            let stream = 5000 + 100 * (2 * k + j) as u32;
+        for (j, selection) in LightSelection::ALL.into_iter().enumerate() {
+            let stream = 5000 + 100 * (3 * k + j) as u32;
             check_methods("(d) point + sphere", &scene, &mis, (1, 1), spheres, selection, total, stream);
         }
     }
@@ -369,6 +377,11 @@ fn e_several_lights_power_selection() {
     check_many(LightSelection::Power, 7050);
 }
 
+#[test]
+fn e_several_lights_contribution_selection() {
+    check_many(LightSelection::Contribution, 7500);
+}
+
 // ---------------------------------------------------------------------------------------------
 // (f) a glossy receiver: GGX conductor under a sphere light
 
@@ -389,13 +402,18 @@ fn glossy_scene(alpha: f32) -> (SphereScene, Vec3, f32) {
 /// Gauss-Legendre quadrature of the kernel's `Material::eval` (f cos) in f64: no closed form
 /// exists for GGX, but the integral is known far more precisely than the estimates.
 fn quadrature_reference(scene: &SphereScene, c: Vec3, r: f32, wo: Vec3) -> [f64; 3] {
+    cone_quadrature(&scene.materials()[0], c, r, SPHERE_L, wo)
+}
+
+/// L_r of `material` at the origin (normal +y) towards `wo` from a sphere light of radiance `l`
+/// (centre `c`, radius `r`), by the quadrature of [`quadrature_reference`].
+fn cone_quadrature(material: &Material, c: Vec3, r: f32, l: Rgb, wo: Vec3) -> [f64; 3] {
     let frame = picomis::math::Frame::from_normal(Vec3::Y);
-    let material = scene.materials()[0];
     let wo_local = frame.to_local(wo);
     let axis = d3(c);
     let cap = Cap::new(axis, (f64::from(r) / axis.length()).asin());
     let mut out = [0.0; 3];
-    for (k, l) in rgb64(SPHERE_L).into_iter().enumerate() {
+    for (k, l) in rgb64(l).into_iter().enumerate() {
         let f = |w: DVec3| {
             let e = material.eval(wo_local, frame.to_local(f3(w)));
             l * f64::from([e.x, e.y, e.z][k])
@@ -432,6 +450,57 @@ fn f_glossy_receiver() {
                     assert_unbiased_rgb(&label, &st.total, exact, MAX_REL_STDERR);
                 }
             }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// (g) a glossy receiver under several lights: selection by contribution weighs the BSDF
+
+type GlossyMany = Scene<4, 3, 2>;
+
+/// A GGX floor (object 0) under three sphere lights: one near (not at) the mirror direction of
+/// [`check_wo`], two far from it (one small and bright); their cones of directions apart.
+fn glossy_many(alpha: f32) -> (GlossyMany, Vec<(Vec3, f32, Rgb)>) {
+    let mut s: GlossyMany = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
+    let metal = s.add_material(Material::ggx_conductor(alpha, Rgb::new(0.9, 0.7, 0.5)).unwrap()).unwrap();
+    let black = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
+    s.add_shape(Shape::quad(floor_corners(50.0)).unwrap(), metal).unwrap();
+    let lights = vec![
+        (Vec3::new(-1.1, 2.8, 0.4), 0.6, SPHERE_L),
+        (Vec3::new(2.0, 2.0, 1.5), 0.5, Rgb::new(2.0, 3.0, 1.0)),
+        (Vec3::new(0.5, 2.5, -2.0), 0.3, Rgb::new(12.0, 9.0, 15.0)),
+    ];
+    let cones: Vec<(DVec3, f64)> = lights
+        .iter()
+        .map(|(c, r, _)| (d3(*c).normalize(), (f64::from(*r) / d3(*c).length()).asin()))
+        .collect();
+    for (i, (a, ta)) in cones.iter().enumerate() {
+        assert!(a.y > ta.sin(), "light {i} dips below the horizon");
+        for (b, tb) in &cones[i + 1..] {
+            assert!(a.dot(*b).acos() > ta + tb + 0.05);
+        }
+    }
+    for (c, r, l) in &lights {
+        let bulb = s.add_shape(Shape::sphere(*c, *r).unwrap(), black).unwrap();
+        s.add_area_light(bulb, *l).unwrap();
+    }
+    (s, lights)
+}
+
+#[test]
+fn g_glossy_receiver_under_several_lights() {
+    let wo = check_wo();
+    for (k, alpha) in [0.05f32, 0.3].into_iter().enumerate() {
+        let (scene, lights) = glossy_many(alpha);
+        let material = scene.materials()[0];
+        let exact =
+            lights.iter().map(|(c, r, l)| cone_quadrature(&material, *c, *r, *l, wo)).fold([0.0; 3], add);
+        for (j, selection) in LightSelection::ALL.into_iter().enumerate() {
+            let label = format!("(g) GGX alpha {alpha}, three lights");
+            let stream = 9700 + 100 * (3 * k + j) as u32;
+            let cone = SphereSampling::Cone;
+            check_methods(&label, &scene, &methods(), (1, 1), cone, selection, exact, stream);
         }
     }
 }

@@ -62,7 +62,7 @@ pub struct Chart {
 }
 
 /// Okabe-Ito colours (distinguishable with colour-blindness), one per study method.
-pub const COLORS: [RGBColor; 8] = [
+pub const COLORS: [RGBColor; 14] = [
     RGBColor(213, 94, 0),    // bsdf: vermillion
     RGBColor(86, 180, 233),  // light (area): sky blue
     RGBColor(0, 114, 178),   // light (cone): blue
@@ -71,6 +71,12 @@ pub const COLORS: [RGBColor; 8] = [
     RGBColor(0, 158, 115),   // power: bluish green
     RGBColor(204, 121, 167), // maximum: reddish purple
     RGBColor(128, 128, 128), // cutoff: grey
+    RGBColor(136, 34, 85),   // power, independent: wine
+    RGBColor(153, 153, 51),  // power, lights by power: olive
+    RGBColor(221, 51, 51),   // power, lights by contribution: red
+    RGBColor(51, 34, 136),   // one-sample: indigo
+    RGBColor(68, 170, 153),  // quads by solid angle: teal
+    RGBColor(170, 68, 153),  // control variate: purple
 ];
 
 /// A tick label for the log axes: only at 1, 2 and 5 times a power of ten (others are blank).

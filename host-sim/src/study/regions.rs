@@ -11,9 +11,12 @@
 //! probabilities (uniform over all lights) and every camera sample draws the same random numbers,
 //! so such a render is exactly the part of the full render that this light contributes; without
 //! the isolation, rare hits of the small bright lights by BSDF samples would swamp every region.
+//! Methods that choose lights otherwise than uniformly are left out (no region errors).
 
 use picomis::study::StudyMethod;
-use picomis::{Light, Material, MaterialId, Ray, Rgb, Scene, SceneError, ShapeId, Vec2, Vec3};
+use picomis::{
+    Light, LightSelection, Material, MaterialId, Ray, Rgb, Scene, SceneError, ShapeId, Vec2, Vec3,
+};
 use rayon::prelude::*;
 
 use super::measure::{reflected, settings};
@@ -269,6 +272,11 @@ pub fn study<const S: usize, const L: usize, const M: usize>(
         let bar = progress_bar(renders * h, &name);
         for &seed in seeds {
             for (mi, m) in methods.iter().enumerate() {
+                if m.extras.selection != LightSelection::Uniform {
+                    // Isolating the light would change this method's selection probabilities.
+                    bar.inc(u64::from(spp) * h);
+                    continue;
+                }
                 let img = render_estimates(&alone, &settings(m, samples, spp, seed)?, &bar).pixels;
                 let values: Vec<Rgb> = img.par_iter().map(reflected).collect();
                 let errors = map.rel_mse(&values, &r.reflected);

@@ -11,7 +11,7 @@ use picomis::study::study_methods;
 use super::args::StudyArgs;
 use super::chart::{self, COLORS, Chart, Point, Series};
 use super::grid;
-use super::results::{SceneStudy, balance_index, over_seeds, rungs, top_rung};
+use super::results::{SceneStudy, balance_index, convergence_slope, over_seeds, rungs, top_rung};
 use crate::SimError;
 use crate::output::{encode_png, write_atomic};
 use crate::text::Canvas;
@@ -43,7 +43,10 @@ pub fn write_scene(out: &Path, study: &SceneStudy, include_emitted: bool) -> Res
             .iter()
             .enumerate()
             .map(|(mi, m)| Series {
-                label: m.title.to_string(),
+                label: match kind {
+                    "spp" => format!("{} (slope {:.2})", m.title, convergence_slope(&study.records, mi)),
+                    _ => m.title.to_string(),
+                },
                 color: COLORS[mi % COLORS.len()],
                 dashed: mi < 3,
                 points: rungs
@@ -209,7 +212,8 @@ pub fn write_summary(
         md,
         "- Efficiency = 1 / (error x seconds) at the top rung (error: mean over seeds; seconds: the fastest \
          seed's render, robust against other processes), relative to the balance heuristic: 2.0 means half \
-         the time for the same error.\n"
+         the time for the same error. The slope is that of a least-squares fit of log relative MSE against \
+         log spp over the ladder: -1 for independent samples, steeper where stratification helps.\n"
     );
     for s in studies {
         let eff = efficiencies(s);
@@ -227,20 +231,21 @@ pub fn write_summary(
         );
         let _ = writeln!(
             md,
-            "| method | ms per image | camera samples/s | MSE | rel. MSE | efficiency vs balance (rel. MSE) | efficiency vs balance (MSE) | equal-time spp | equal-time rel. MSE |"
+            "| method | ms per image | camera samples/s | MSE | rel. MSE | rel. MSE slope vs spp | efficiency vs balance (rel. MSE) | efficiency vs balance (MSE) | equal-time spp | equal-time rel. MSE |"
         );
-        let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+        let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
         for (mi, m) in methods.iter().enumerate() {
             let e = eff[mi];
             let eq = s.equal_time.iter().find(|q| q.method == mi);
             let _ = writeln!(
                 md,
-                "| {} | {:.1} | {:.2} M | {:.3e} | {:.3e} | {} | {} | {} | {} |",
+                "| {} | {:.1} | {:.2} M | {:.3e} | {:.3e} | {:.2} | {} | {} | {} | {} |",
                 m.title,
                 e.seconds * 1e3,
                 e.samples_per_second / 1e6,
                 e.mse,
                 e.rel_mse,
+                convergence_slope(&s.records, mi),
                 ratio(e.rel_efficiency / b.rel_efficiency),
                 ratio(e.efficiency / b.efficiency),
                 eq.map_or(String::new(), |q| q.spp.to_string()),

@@ -114,6 +114,22 @@ pub fn over_seeds(records: &[Record], mi: usize, spp: u32, f: impl Fn(&Record) -
     (mean(vals.into_iter()), lo, hi)
 }
 
+/// The least-squares slope of ln(relative MSE) against ln(spp) of method `mi` over the rungs
+/// (the error mean over seeds); NaN with fewer than two rungs of positive error.
+pub fn convergence_slope(records: &[Record], mi: usize) -> f64 {
+    let points: Vec<(f64, f64)> = rungs(records)
+        .into_iter()
+        .map(|spp| (f64::from(spp).ln(), over_seeds(records, mi, spp, |r| r.error.rel_mse).0))
+        .filter(|(_, e)| *e > 0.0 && e.is_finite())
+        .map(|(x, e)| (x, e.ln()))
+        .collect();
+    let n = points.len() as f64;
+    let (mx, my) = (mean(points.iter().map(|p| p.0)), mean(points.iter().map(|p| p.1)));
+    let sxy: f64 = points.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = points.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
+    if n >= 2.0 && sxx > 0.0 { sxy / sxx } else { f64::NAN }
+}
+
 /// Mean of the values (NaN for none).
 pub fn mean(values: impl Iterator<Item = f64>) -> f64 {
     let (mut sum, mut n) = (0.0, 0usize);
@@ -132,5 +148,33 @@ mod tests {
     fn the_baseline_is_balance() {
         assert_eq!(study_methods()[balance_index()].label, "balance");
         assert_eq!(study_methods()[index_of(Method::LightOnly, SphereSampling::Area)].label, "light_area");
+    }
+}
+
+#[cfg(test)]
+mod slope_tests {
+    use super::*;
+    use crate::study::metrics::ErrorStats;
+
+    #[test]
+    fn the_convergence_slope_is_that_of_the_fitted_power_law() {
+        let record = |method, spp: u32, seed, rel_mse| Record {
+            method,
+            spp,
+            seed,
+            seconds: 1.0,
+            error: ErrorStats { mse: rel_mse, rel_mse },
+            mitsuba: None,
+        };
+        let mut records = Vec::new();
+        for spp in [1u32, 2, 4, 8, 16] {
+            // Method 0: 1 / spp^1.5 on average over two seeds; method 1: one rung only.
+            let e = 0.3 * f64::from(spp).powf(-1.5);
+            records.push(record(0, spp, 1, 0.5 * e));
+            records.push(record(0, spp, 2, 1.5 * e));
+        }
+        records.push(record(1, 4, 1, 0.1));
+        assert!((convergence_slope(&records, 0) + 1.5).abs() < 1e-9, "{}", convergence_slope(&records, 0));
+        assert!(convergence_slope(&records, 1).is_nan());
     }
 }

@@ -21,9 +21,9 @@ pub const METHODS: [Method; Method::ALL.len()] = Method::ALL;
 pub const SPHERE_SAMPLING: [(&str, SphereSampling); 2] =
     [("area", SphereSampling::Area), ("cone", SphereSampling::Cone)];
 
-/// Light-selection strategies, by index (named as `picomis-sim render --light-selection`).
-pub const LIGHT_SELECTION: [(&str, LightSelection); 2] =
-    [("uniform", LightSelection::Uniform), ("power", LightSelection::Power)];
+/// Light-selection strategies, by index: the kernel's list (named as `picomis-sim render
+/// --light-selection`).
+pub const LIGHT_SELECTION: [LightSelection; LightSelection::ALL.len()] = LightSelection::ALL;
 
 /// `m` as (index in [`METHODS`], beta, alpha), with the kernel's defaults for the parameters
 /// `m` does not have.
@@ -67,8 +67,8 @@ pub fn info() -> Value {
         "methods": METHODS.map(|m| m.name()),
         "sphere_sampling": SPHERE_SAMPLING.map(|(n, _)| n),
         "default_sphere_sampling": index_of(&SPHERE_SAMPLING),
-        "light_selection": LIGHT_SELECTION.map(|(n, _)| n),
-        "default_light_selection": index_of(&LIGHT_SELECTION),
+        "light_selection": LIGHT_SELECTION.map(LightSelection::name),
+        "default_light_selection": LIGHT_SELECTION.iter().position(|s| *s == LightSelection::default()).unwrap_or(0),
     })
 }
 

@@ -70,7 +70,7 @@ impl Request {
                 SPHERE_SAMPLING[pick(self.spheres, SPHERE_SAMPLING.len(), "sphere sampling")?].1,
             )
             .with_light_selection(
-                LIGHT_SELECTION[pick(self.selection, LIGHT_SELECTION.len(), "light selection")?].1,
+                LIGHT_SELECTION[pick(self.selection, LIGHT_SELECTION.len(), "light selection")?],
             );
         Ok((file, settings))
     }

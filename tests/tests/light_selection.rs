@@ -1,0 +1,186 @@
+//! Light selection by contribution, where the probabilities depend on the shading point and the
+//! BSDF (unbiasedness of the estimates it feeds is checked in tests/tests/unbiased.rs):
+//!
+//! 1. exactness: over all 2^24 values of the random number, `select` chooses each light exactly
+//!    as often as `pmf` says, at shading points on Lambertian and near-mirror GGX receivers;
+//! 2. no zero probability for a light that contributes: at 3,000 random shading points (random
+//!    normal, view direction and BSDF: Lambertian or GGX, alpha 1e-3 to 1) every light of which
+//!    one of 64 light samples carries f L > 0 (visibility aside) has pmf > 0;
+//! 3. W1 across the techniques: for each light sample drawn at those points, the weight the
+//!    light sample gets (from the probability `select` reported) and the weight a BSDF sample
+//!    in the same direction gets (from `pmf`, as the estimator computes it) sum to one, for every
+//!    heuristic.
+//!
+//! Scene: sphere lights straddling the horizon, tiny and big; a quad light seen from both sides;
+//! a bright and a dark point light.
+
+use picomis::math::Frame;
+use picomis::sampling::sample_uniform_sphere;
+use picomis::{
+    Film, Heuristic, LightId, LightSampler, LightSelection, Material, Method, Rgb, Sampler, Scene,
+    ShadingPoint, Shape, SphereSampling, SurfacePoint, Technique, Vec3,
+};
+use picomis_tests::{camera, heuristics, quad_corners};
+
+type LightScene = Scene<5, 6, 1>;
+
+fn scene() -> LightScene {
+    let mut s: LightScene = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
+    let black = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
+    let spheres = [
+        (Vec3::new(2.0, 0.2, 0.0), 0.5, Rgb::new(4.0, 2.0, 1.0)),
+        (Vec3::new(0.0, 3.0, 1.0), 1e-3, Rgb::splat(1e5)),
+        (Vec3::new(-4.0, 3.0, -1.0), 2.0, Rgb::new(0.5, 0.5, 1.0)),
+    ];
+    for (c, r, l) in spheres {
+        let id = s.add_shape(Shape::sphere(c, r).unwrap(), black).unwrap();
+        s.add_area_light(id, l).unwrap();
+    }
+    let corners = quad_corners(Vec3::new(-1.0, 1.5, 2.0), Vec3::new(2.0, 0.5, 0.0), Vec3::new(0.0, 0.8, 1.5));
+    let q = s.add_shape(Shape::quad(corners).unwrap(), black).unwrap();
+    s.add_area_light(q, Rgb::new(1.0, 3.0, 2.0)).unwrap();
+    s.add_point_light(Vec3::new(1.0, 2.0, -2.0), Rgb::splat(5.0)).unwrap();
+    s.add_point_light(Vec3::new(-1.0, 2.0, -2.0), Rgb::ZERO).unwrap();
+    s
+}
+
+fn ggx(alpha: f32) -> Material {
+    Material::ggx_conductor(alpha, Rgb::new(0.9, 0.7, 0.5)).unwrap()
+}
+
+/// Light sampling by contribution in `s`.
+fn by_contribution(s: &LightScene) -> LightSampler<'_, 5, 6, 1> {
+    LightSampler::new(s, LightSelection::Contribution, SphereSampling::Cone)
+}
+
+#[test]
+fn contribution_selection_realises_its_pmf_exactly() {
+    let s = scene();
+    let lights = by_contribution(&s);
+    let wo = Vec3::new(-0.5, 0.75, 0.1).normalize();
+    let points = [
+        ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo, bsdf: Material::lambertian(Rgb::splat(0.5)).unwrap() },
+        ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo, bsdf: ggx(1e-3) },
+        ShadingPoint {
+            p: Vec3::new(0.5, 0.0, 1.0),
+            n: Vec3::new(0.3, 1.0, 0.0).normalize(),
+            wo,
+            bsdf: ggx(0.2),
+        },
+        ShadingPoint { p: Vec3::new(0.0, 2.0, 3.0), n: -Vec3::Z, wo: -Vec3::Z, bsdf: ggx(0.05) },
+    ];
+    const GRID: u32 = 1 << 24;
+    for (k, point) in points.iter().enumerate() {
+        let at = lights.selection_at(point);
+        let mut counts = [0u64; 6];
+        for u in 0..GRID {
+            // Exactly the values `Sampler::next_f32` returns.
+            let chosen = lights.select(&at, u as f32 / GRID as f32).unwrap();
+            assert_eq!(chosen.probability, lights.pmf(&at, chosen.light), "point {k}");
+            counts[chosen.light.index()] += 1;
+        }
+        let mut total = 0.0;
+        for (i, &c) in counts.iter().enumerate() {
+            let pmf = f64::from(lights.pmf(&at, LightId::new(i as u16)));
+            assert_eq!(c as f64 / f64::from(GRID), pmf, "point {k}, light {i}: chosen {c} times");
+            total += pmf;
+        }
+        assert_eq!(total, 1.0, "point {k}");
+        // The dark point light is never chosen; several lights are.
+        assert_eq!(counts[5], 0, "point {k}");
+        assert!(counts.iter().filter(|&&c| c > 0).count() >= 2, "point {k}: {counts:?}");
+        println!("point {k}: pmf {:?}", (0..6).map(|i| lights.pmf(&at, LightId::new(i))).collect::<Vec<_>>());
+    }
+    // The BSDF moves the probabilities: the near-mirror receiver favours other lights than the
+    // Lambertian one at the same point.
+    let (a, b) = (lights.selection_at(&points[0]), lights.selection_at(&points[1]));
+    let moved: f32 =
+        (0..6).map(|i| (lights.pmf(&a, LightId::new(i)) - lights.pmf(&b, LightId::new(i))).abs()).sum();
+    assert!(moved > 0.2, "the BSDF changed the probabilities by {moved} only");
+}
+
+/// A random shading point: position near the lights, any normal, a view direction above it, and
+/// a Lambertian or GGX (alpha 1e-3 to 1) receiver.
+fn random_point(rng: &mut Sampler) -> ShadingPoint {
+    let u = rng.next_2d();
+    let p = Vec3::new(6.0 * u.x - 3.0, rng.next_f32() - 0.5, 6.0 * u.y - 3.0);
+    let n = sample_uniform_sphere(rng.next_2d());
+    let w = sample_uniform_sphere(rng.next_2d());
+    let wo = if w.dot(n) > 0.0 { w } else { -w };
+    let bsdf = match rng.next_f32() {
+        x if x < 0.3 => Material::lambertian(Rgb::splat(0.6)).unwrap(),
+        _ => ggx(10f32.powf(-3.0 * rng.next_f32())),
+    };
+    ShadingPoint { p, n, wo, bsdf }
+}
+
+#[test]
+fn every_light_that_contributes_can_be_chosen() {
+    let s = scene();
+    let lights = by_contribution(&s);
+    let mut rng = Sampler::new(13, 0, 0);
+    let (mut contributing, mut points) = (0, 0);
+    for _ in 0..3000 {
+        let point = random_point(&mut rng);
+        let frame = Frame::from_normal(point.n);
+        let wo = frame.to_local(point.wo);
+        let at = lights.selection_at(&point);
+        for i in 0..6 {
+            let light = LightId::new(i);
+            let contributes = (0..64).any(|_| {
+                lights.sample(light, point.p, rng.next_2d()).is_some_and(|ls| {
+                    let f = point.bsdf.eval(wo, frame.to_local(ls.wi)) * ls.radiance;
+                    f.max_element() > 0.0
+                })
+            });
+            if contributes {
+                contributing += 1;
+                let pmf = lights.pmf(&at, light);
+                assert!(pmf > 0.0, "light {i} contributes at {point:?} but its pmf is {pmf}");
+            }
+        }
+        points += 1;
+    }
+    // Not vacuous: most points see several contributing lights.
+    assert!(contributing > 2 * points, "{contributing} contributing lights at {points} points");
+}
+
+#[test]
+fn the_light_and_bsdf_weights_of_a_direction_sum_to_one() {
+    let s = scene();
+    let lights = by_contribution(&s);
+    let mut rng = Sampler::new(14, 0, 0);
+    let mut checked = 0;
+    for _ in 0..3000 {
+        let point = random_point(&mut rng);
+        let frame = Frame::from_normal(point.n);
+        let wo = frame.to_local(point.wo);
+        let at = lights.selection_at(&point);
+        let Some(chosen) = lights.select(&at, rng.next_f32()) else { continue };
+        let Some(ls) = lights.sample(chosen.light, point.p, rng.next_2d()) else { continue };
+        let (f, p_bsdf) = point.bsdf.eval_pdf(wo, frame.to_local(ls.wi));
+        if ls.delta || f == Rgb::ZERO {
+            continue;
+        }
+        // The light sample's own pdf, as `light_sample` computes it.
+        let q_light = chosen.probability * ls.pdf;
+        // The same direction as a BSDF sample would see it: the pmf of the light it hits.
+        let shape = s.light_shape(s.light(chosen.light).unwrap()).unwrap();
+        let p = point.p + ls.wi * ls.distance;
+        let y = SurfacePoint { p, n: shape.normal_at(p) };
+        let q_light_seen_by_bsdf = lights.pmf(&at, chosen.light) * lights.pdf(chosen.light, point.p, &y);
+        for h in heuristics().into_iter().chain([Heuristic::Power { beta: 2.0 }]) {
+            let m = Method::Mis(h);
+            let w_light = m.weight(Technique::Light, q_light, p_bsdf);
+            let w_bsdf = m.weight(Technique::Bsdf, q_light_seen_by_bsdf, p_bsdf);
+            let sum = w_light + w_bsdf;
+            assert!(
+                (sum - 1.0).abs() < 1e-3,
+                "{h:?} at {point:?}, light {:?}: w_light {w_light} + w_bsdf {w_bsdf} = {sum}",
+                chosen.light
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked > 1000, "only {checked} light samples checked");
+}
