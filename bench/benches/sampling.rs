@@ -161,7 +161,7 @@ fn scene_queries(c: &mut Criterion) {
     cycle(&mut g, "sample_light_cone", |i| {
         let at = ShadingPoint { p: shadow[i].0.origin, n: Vec3::Y, wo: Vec3::Y };
         let chosen = lights.select(&at, t.u1[i])?;
-        lights.sample(chosen.light, at.p, t.u[i]).map(|s| s.pdf * chosen.probability)
+        lights.sample(chosen.light, &at, t.u[i]).map(|s| s.pdf * chosen.probability)
     });
     g.finish();
 }

@@ -168,6 +168,10 @@ pub fn study_methods() -> Vec<StudyMethod> {
             ..study("balance_sa", "balance, quads by solid angle", m("balance"), cone)
         },
         StudyMethod {
+            extras: Extras { quads: QuadSampling::SolidAngleCosine, ..Extras::default() },
+            ..study("balance_sac", "balance, quads by solid angle x cosine", m("balance"), cone)
+        },
+        StudyMethod {
             extras: Extras { control_variate: ControlVariate::On, ..Extras::default() },
             ..study("balance_cv", "balance + control variate", m("balance"), cone)
         },

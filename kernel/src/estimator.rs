@@ -302,7 +302,7 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
     let u_select = sampler.next_f32();
     let u: Vec2 = sampler.next_2d();
     let chosen = lights.select(&at.point, u_select)?;
-    let ls = lights.sample(chosen.light, p, u)?;
+    let ls = lights.sample(chosen.light, &at.point, u)?;
     // The light technique's pdf of this direction: p_l = P(light) p_w(wi | light).
     let p_light = chosen.probability * ls.pdf;
     let wi = at.frame.to_local(ls.wi);
@@ -347,7 +347,7 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
             return;
         }
         let pdf = pdf();
-        let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, p, &y.point);
+        let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, &at.point, &y.point);
         found(Found { value: bs.weight * radiance, pdf, pdf_other, delta: false });
         return;
     }
@@ -359,7 +359,7 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
             (false, false) | (true, true) => return,
         };
         if radiance != Rgb::ZERO {
-            let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, p, &y.point);
+            let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, &at.point, &y.point);
             found(Found { value, pdf, pdf_other, delta: false });
         }
     });

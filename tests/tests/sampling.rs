@@ -460,7 +460,7 @@ fn chi2_scene_light_sampling() {
                 let u_select = rng.next_f32();
                 let u = rng.next_2d();
                 let chosen = lights.select(&at, u_select).unwrap();
-                let sample = lights.sample(chosen.light, x, u);
+                let sample = lights.sample(chosen.light, &at, u);
                 match sample.map(|ls| (ls, ls.emitter.map(ShapeId::index))) {
                     Some((ls, Some(0))) => match spheres {
                         SphereSampling::Cone => hs.add(cone.coords(d3(ls.wi))),
@@ -481,7 +481,7 @@ fn chi2_scene_light_sampling() {
             let n = N_CHI2 as f64;
             let pdf_at = |light: u16, p: Vec3, nrm: Vec3| {
                 let light = LightId::new(light);
-                let p_omega = lights.pdf(light, x, &SurfacePoint { p, n: nrm });
+                let p_omega = lights.pdf(light, &at, &SurfacePoint { p, n: nrm });
                 f64::from(lights.pmf(&at, light)) * f64::from(p_omega)
             };
             let (es, ts) = match spheres {
