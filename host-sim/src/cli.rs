@@ -117,9 +117,9 @@ pub struct RenderArgs {
     /// How a light is chosen among several.
     #[arg(long, value_enum, default_value_t = LightSelectionArg::Uniform)]
     pub light_selection: LightSelectionArg,
-    /// How quad lights are sampled.
-    #[arg(long, value_name = "Q", value_parser = quad_sampling_parser(), default_value_t = QuadSampling::default())]
-    pub quad_sampling: QuadSampling,
+    /// How quad lights are sampled (default: the scene's integrator block, else area).
+    #[arg(long, value_name = "Q", value_parser = quad_sampling_parser())]
+    pub quad_sampling: Option<QuadSampling>,
     /// MIS model: multi-sample or one-sample (default: the scene's integrator block, else multi).
     #[arg(long, value_enum)]
     pub mis_model: Option<MisModelArg>,
@@ -368,7 +368,7 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
     Ok(settings
         .with_sphere_sampling(spheres)
         .with_light_selection(selection)
-        .with_quad_sampling(args.quad_sampling)
+        .with_quad_sampling(args.quad_sampling.unwrap_or(loaded.file.default_quad_sampling()))
         .with_control_variate(control_variate)
         .with_sampler(sampler))
 }
