@@ -210,25 +210,8 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         if let (Light::Area { radiance, shape: emitter }, Some(shape)) = (light, shape) {
             if let Some((rect, sr)) = rectangle_seen_from(shape, x, self.quads) {
                 // Decided by the setup alone, as in `pdf`: no fallback after this point.
-                let (u, warp_pdf) = match cosine_weights(self.quads, &rect, &sr, at.n) {
-                    Some(w) => {
-                        let v = sample_bilinear(u, w);
-                        (v, bilinear_pdf(v, w))
-                    }
-                    None => (u, 1.0),
-                };
-                let local = sample_spherical_rectangle(&sr, u)?;
-                let distance = sqrt(local.length_squared());
-                let wi = (rect.ex * local.x + rect.ey * local.y + rect.n * local.z) / distance;
-                let pdf = spherical_rectangle_pdf(&sr) * warp_pdf;
-                return (distance > 0.0 && pdf.is_finite()).then_some(LightSample {
-                    wi,
-                    distance,
-                    radiance: *radiance,
-                    pdf,
-                    delta: false,
-                    emitter: Some(*emitter),
-                });
+                let s = sample_rectangle(&rect, &sr, self.quads, at.n, u)?;
+                return Some(LightSample { radiance: *radiance, emitter: Some(*emitter), ..s });
             }
         }
         light.sample_li(shape, x, u, self.spheres)
@@ -246,15 +229,7 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
                 if let (Light::Area { .. }, Some((rect, sr))) =
                     (light, shape.and_then(|s| rectangle_seen_from(s, x, self.quads)))
                 {
-                    let pdf = spherical_rectangle_pdf(&sr);
-                    return match cosine_weights(self.quads, &rect, &sr, at.n) {
-                        Some(w) => {
-                            let v = y.p - x;
-                            let local = Vec3::new(v.dot(rect.ex), v.dot(rect.ey), v.dot(rect.n));
-                            pdf * bilinear_pdf(invert_spherical_rectangle_sample(&sr, local), w)
-                        }
-                        None => pdf,
-                    };
+                    return rectangle_pdf(&rect, &sr, self.quads, at, y.p);
                 }
                 light.pdf_li(shape, x, y, self.spheres)
             }
@@ -280,19 +255,66 @@ fn rectangle_seen_from(
     Some((rect, spherical_rectangle(corner, rect.lengths.x, rect.lengths.y)?))
 }
 
-/// The corner weights of the cosine warp for a receiver with unit normal `n` (world), when quads
-/// are warped by it.
+/// The corner weights of the cosine warp for a receiver with unit normal `n` (world).
 #[inline]
-fn cosine_weights(
-    quads: QuadSampling,
+fn cosine_weights(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3) -> [f32; 4] {
+    spherical_rectangle_cosines(sr, Vec3::new(n.dot(rect.ex), n.dot(rect.ey), n.dot(rect.n)))
+}
+
+/// A direction to the rectangle `rect` (seen as `sr`) from a receiver with unit normal `n`, in
+/// solid angle, first warped by the cosine for [`QuadSampling::SolidAngleCosine`]; radiance and
+/// emitter are left for the caller. Out of line, like [`rectangle_pdf`]: one copy in the
+/// firmware, and the code of spheres and points does not grow.
+#[inline(never)]
+fn sample_rectangle(
     rect: &Rectangle,
     sr: &SphericalRectangle,
+    quads: QuadSampling,
     n: Vec3,
-) -> Option<[f32; 4]> {
-    if quads != QuadSampling::SolidAngleCosine {
-        return None;
+    u: Vec2,
+) -> Option<LightSample> {
+    let (u, warp_pdf) = match quads {
+        QuadSampling::SolidAngleCosine => {
+            let w = cosine_weights(rect, sr, n);
+            let v = sample_bilinear(u, w);
+            (v, bilinear_pdf(v, w))
+        }
+        _ => (u, 1.0),
+    };
+    let local = sample_spherical_rectangle(sr, u)?;
+    let distance = sqrt(local.length_squared());
+    let wi = (rect.ex * local.x + rect.ey * local.y + rect.n * local.z) / distance;
+    let pdf = spherical_rectangle_pdf(sr) * warp_pdf;
+    (distance > 0.0 && pdf.is_finite()).then_some(LightSample {
+        wi,
+        distance,
+        radiance: Rgb::ZERO,
+        pdf,
+        delta: false,
+        emitter: None,
+    })
+}
+
+/// The pdf with which [`sample_rectangle`] reaches the point `y` of the rectangle from the
+/// shading point `at`: 1 / solid angle, times the bilinear pdf of the u that reaches `y` for
+/// [`QuadSampling::SolidAngleCosine`].
+#[inline(never)]
+fn rectangle_pdf(
+    rect: &Rectangle,
+    sr: &SphericalRectangle,
+    quads: QuadSampling,
+    at: &ShadingPoint,
+    y: Vec3,
+) -> f32 {
+    let pdf = spherical_rectangle_pdf(sr);
+    match quads {
+        QuadSampling::SolidAngleCosine => {
+            let v = y - at.p;
+            let local = Vec3::new(v.dot(rect.ex), v.dot(rect.ey), v.dot(rect.n));
+            pdf * bilinear_pdf(invert_spherical_rectangle_sample(sr, local), cosine_weights(rect, sr, at.n))
+        }
+        _ => pdf,
     }
-    Some(spherical_rectangle_cosines(sr, Vec3::new(n.dot(rect.ex), n.dot(rect.ey), n.dot(rect.n))))
 }
 
 impl Light {
