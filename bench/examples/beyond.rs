@@ -18,10 +18,17 @@
 //! (their difference gives its own noise, subtracted from every figure), cached in the system's
 //! temporary folder. Films are scaled down to at most 128 x 96 pixels' worth.
 //!
+//! The README's figures (each also with `--sampler independent`; the scenes with quad lights are
+//! two built-in ones and two of `tests/scenes/`):
+//!
 //! ```sh
-//! cargo run --release -p picomis-bench --example beyond -- quads --spp 64 --seeds 4
-//! cargo run --release -p picomis-bench --example beyond -- weights --spp 64 --seeds 4 --sampler independent
+//! cargo run --release -p picomis-bench --example beyond -- quads box_quad stress \
+//!   tests/scenes/panel_room.json tests/scenes/low_ceiling.json --spp 64 --seeds 4
+//! cargo run --release -p picomis-bench --example beyond -- weights --spp 64 --seeds 4 --pilots 16
 //! ```
+//!
+//! Options: `--spp N` (64), `--seeds K` (4), `--ref-spp N` (8192), `--pilot-spp N` (`--spp`),
+//! `--pilots K` (8), `--sampler sobol|independent` (sobol).
 
 use std::path::PathBuf;
 
