@@ -144,6 +144,15 @@ pub struct LightSample {
     pub emitter: Option<ShapeId>,
 }
 
+impl LightSample {
+    /// A sample of an area light towards `wi` at `distance` with `pdf`; the caller fills in its
+    /// radiance and emitter.
+    #[inline]
+    fn towards(wi: Vec3, distance: f32, pdf: f32) -> Self {
+        LightSample { wi, distance, radiance: Rgb::ZERO, pdf, delta: false, emitter: None }
+    }
+}
+
 /// Light sampling in one scene with one strategy for each choice.
 #[derive(Clone, Copy, Debug)]
 pub struct LightSampler<'a, const S: usize, const L: usize, const M: usize> {
@@ -285,14 +294,7 @@ fn sample_rectangle(
     let distance = sqrt(local.length_squared());
     let wi = (rect.ex * local.x + rect.ey * local.y + rect.n * local.z) / distance;
     let pdf = spherical_rectangle_pdf(sr) * warp_pdf;
-    (distance > 0.0 && pdf.is_finite()).then_some(LightSample {
-        wi,
-        distance,
-        radiance: Rgb::ZERO,
-        pdf,
-        delta: false,
-        emitter: None,
-    })
+    (distance > 0.0 && pdf.is_finite()).then_some(LightSample::towards(wi, distance, pdf))
 }
 
 /// The pdf with which [`sample_rectangle`] reaches the point `y` of the rectangle from the
@@ -418,14 +420,7 @@ fn sample_sphere_cone(center: Vec3, radius: f32, x: Vec3, u: Vec2) -> Option<Lig
     let sin2 = local.x * local.x + local.y * local.y;
     let distance = max0(d * local.z - safe_sqrt(radius * radius - d2 * sin2));
     let pdf = uniform_cone_pdf(omc);
-    (pdf > 0.0 && pdf.is_finite()).then_some(LightSample {
-        wi,
-        distance,
-        radiance: Rgb::ZERO,
-        pdf,
-        delta: false,
-        emitter: None,
-    })
+    (pdf > 0.0 && pdf.is_finite()).then_some(LightSample::towards(wi, distance, pdf))
 }
 
 #[cfg(test)]
