@@ -161,9 +161,10 @@ fn scene_queries(c: &mut Criterion) {
     let diffuse = Material::lambertian(Rgb::splat(0.5)).expect("valid albedo");
     cycle(&mut g, "sample_light_cone", |i| {
         let p = shadow[i].0.origin;
-        let at = lights.selection_at(&ShadingPoint { p, n: Vec3::Y, wo: Vec3::Y, bsdf: diffuse });
+        let point = ShadingPoint { p, n: Vec3::Y, wo: Vec3::Y, bsdf: diffuse };
+        let at = lights.selection_at(&point);
         let chosen = lights.select(&at, t.u1[i])?;
-        lights.sample(chosen.light, p, t.u[i]).map(|s| s.pdf * chosen.probability)
+        lights.sample(chosen.light, &point, t.u[i]).map(|s| s.pdf * chosen.probability)
     });
     g.finish();
 }

@@ -1,21 +1,39 @@
-//! Cost of a camera sample on one core: renders every pixel of a built-in scene (default
-//! veach_mis) at SPP samples (default 4) with the scene's integrator block and the sampler named
-//! by the second argument (default: the default), single-threaded, and prints ns per camera
-//! sample and a checksum of the bits. Small enough to run under
-//! `valgrind --tool=callgrind` for instruction counts per camera sample:
+//! Cost of a camera sample on one core: renders every pixel of a built-in scene or a scene file (default
+//! veach_mis) at SPP samples (default 4) with the scene's integrator block, the sampler named
+//! by the second argument (default: the default), the quad-light sampling named by the fourth
+//! (default: the scene's) and the method named by the fifth (default: the scene's),
+//! single-threaded, and prints ns per camera sample and a checksum of the bits. Small enough to
+//! run under `valgrind --tool=callgrind` for instruction counts per camera sample:
 //!
-//! `cargo run --release -p picomis-bench --example per_sample -- veach_mis sobol 4`
+//! `cargo run --release -p picomis-bench --example per_sample -- veach_mis sobol 4 [solid-angle [balance]]`
 
 use std::hint::black_box;
 use std::time::Instant;
 
-use picomis::{SamplerKind, camera_sample};
+use picomis::{Method, QuadSampling, RenderSettings, SamplerKind, camera_sample};
 use picomis_bench::{build, builtin_scenes, for_scene};
 use picomis_format::SceneFile;
 
-fn run<const S: usize, const L: usize, const M: usize>(file: &SceneFile, sampler: SamplerKind, spp: u32) {
+fn run<const S: usize, const L: usize, const M: usize>(
+    file: &SceneFile,
+    sampler: SamplerKind,
+    spp: u32,
+    quads: Option<QuadSampling>,
+    method: Option<Method>,
+) {
     let scene = build::<S, L, M>(file);
-    let settings = file.default_settings().expect("valid built-in settings").with_sampler(sampler);
+    let mut settings = file.default_settings().expect("valid built-in settings").with_sampler(sampler);
+    let quads = quads.unwrap_or(settings.quad_sampling());
+    settings = settings.with_quad_sampling(quads);
+    if let Some(m) = method {
+        let (n_light, n_bsdf) = file.default_samples();
+        settings = RenderSettings::new(m, n_light, n_bsdf, 1, settings.seed())
+            .expect("valid settings")
+            .with_sampler(sampler)
+            .with_light_selection(settings.light_selection())
+            .with_sphere_sampling(settings.sphere_sampling())
+            .with_quad_sampling(quads);
+    }
     let film = scene.film();
     let start = Instant::now();
     let mut checksum = 0u32;
@@ -31,9 +49,10 @@ fn run<const S: usize, const L: usize, const M: usize>(file: &SceneFile, sampler
     let n = f64::from(spp) * f64::from(film.pixels());
     let ns = start.elapsed().as_secs_f64() * 1e9 / n;
     println!(
-        "{}: {} {spp} spp, {n} camera samples, {ns:.1} ns per camera sample, checksum {checksum:08x}",
+        "{}: {} {spp} spp, quads {quads}, {}, {n} camera samples, {ns:.1} ns per camera sample, checksum {checksum:08x}",
         file.name(),
-        sampler.name()
+        sampler.name(),
+        settings.method()
     );
 }
 
@@ -42,7 +61,12 @@ fn main() {
     let name = args.get(1).map_or("veach_mis", String::as_str);
     let sampler = args.get(2).and_then(|s| SamplerKind::from_name(s)).unwrap_or_default();
     let spp = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(4);
+    let quads = args.get(4).map(|s| QuadSampling::from_name(s).expect("a quad sampling name"));
+    let method = args.get(5).map(|s| Method::from_name(s).expect("a method name"));
     let files = builtin_scenes();
-    let file = files.iter().find(|f| f.name() == name).expect("a built-in scene name");
-    for_scene!(file, run, sampler, spp);
+    let file = match files.iter().find(|f| f.name() == name) {
+        Some(f) => f.clone(),
+        None => SceneFile::load(std::path::Path::new(name)).expect("a built-in scene name or a scene file"),
+    };
+    for_scene!(&file, run, sampler, spp, quads, method);
 }

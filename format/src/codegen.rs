@@ -116,6 +116,9 @@ pub(crate) fn module(s: &SceneFile) -> String {
         s.bsdf_samples,
         s.sampler
     );
+    if s.quads != picomis::QuadSampling::default() {
+        let _ = writeln!(o, "        .map(|s| s.with_quad_sampling(picomis::QuadSampling::{:?}))", s.quads);
+    }
     if let picomis::MisModel::One { c_light } = s.model {
         let _ = writeln!(
             o,

@@ -99,6 +99,9 @@ struct IntegratorDesc {
     /// Sample stream (`SamplerKind::name`); the kernel's default when absent.
     #[serde(default)]
     sampler: Option<String>,
+    /// How quad lights are sampled (`QuadSampling::name`); the kernel's default when absent.
+    #[serde(default)]
+    quad_sampling: Option<String>,
     /// `multi` (default) or `one`: the MIS sampling model.
     #[serde(default = "default_mis_model")]
     mis_model: String,
@@ -288,6 +291,14 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
             fail("integrator.sampler", format!("unknown sampler {name:?} (expected {})", names.join(" or ")))
         })?,
     };
+    let quads = match ig.quad_sampling.as_deref() {
+        None => picomis::QuadSampling::default(),
+        Some(name) => picomis::QuadSampling::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = picomis::QuadSampling::ALL.iter().map(|q| q.name()).collect();
+            let expected = names.join(", ");
+            fail("integrator.quad_sampling", format!("unknown quad sampling {name:?} (expected {expected})"))
+        })?,
+    };
 
     let mut steps = Vec::new();
     let mut material_index = BTreeMap::new();
@@ -374,6 +385,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
         method,
         model,
         sampler,
+        quads,
         light_samples: ig.emitter_samples,
         bsdf_samples: ig.bsdf_samples,
         steps,

@@ -21,8 +21,8 @@ use std::path::Path;
 pub use catalog::builtins_rust;
 
 use picomis::{
-    Camera, CameraDesc, Collection, Film, Material, Method, MisModel, RenderSettings, Rgb, SamplerKind,
-    Scene, SceneError, Shape, Vec3,
+    Camera, CameraDesc, Collection, Film, Material, Method, MisModel, QuadSampling, RenderSettings, Rgb,
+    SamplerKind, Scene, SceneError, Shape, Vec3,
 };
 
 /// Why a scene file could not be loaded: which file, which entry, and why.
@@ -90,6 +90,7 @@ pub struct SceneFile {
     method: Method,
     model: MisModel,
     sampler: SamplerKind,
+    quads: QuadSampling,
     light_samples: u16,
     bsdf_samples: u16,
     steps: Vec<Step>,
@@ -199,8 +200,13 @@ impl SceneFile {
     pub fn default_settings(&self) -> Result<RenderSettings, LoadError> {
         RenderSettings::new(self.method, self.light_samples, self.bsdf_samples, 1, 0)
             .and_then(|s| s.with_mis_model(self.model))
-            .map(|s| s.with_sampler(self.sampler))
+            .map(|s| s.with_sampler(self.sampler).with_quad_sampling(self.quads))
             .map_err(|e| self.error("integrator", e))
+    }
+
+    /// The quad-light sampling of the integrator block (`quad_sampling`).
+    pub fn default_quad_sampling(&self) -> QuadSampling {
+        self.quads
     }
 
     /// The sample stream of the integrator block.

@@ -173,6 +173,24 @@ fn method_names_and_parameters_come_from_the_kernel() {
 }
 
 #[test]
+fn quad_sampling_names_come_from_the_kernel() {
+    assert_eq!(load(&veach()).unwrap().default_quad_sampling(), picomis::QuadSampling::default());
+    for q in picomis::QuadSampling::ALL {
+        let mut v = veach();
+        v["integrator"]["quad_sampling"] = q.name().into();
+        let s = load(&v).unwrap();
+        assert_eq!(s.default_quad_sampling(), q, "{q}");
+        assert_eq!(s.default_settings().unwrap().quad_sampling(), q, "{q}");
+        // The firmware's settings carry it too.
+        let named = s.to_rust().contains(&format!("QuadSampling::{q:?}"));
+        assert_eq!(named, q != picomis::QuadSampling::default(), "{q}");
+    }
+    let mut v = veach();
+    v["integrator"]["quad_sampling"] = "cone".into();
+    rejects(&v, "integrator.quad_sampling", "unknown quad sampling \"cone\" (expected area, solid-angle");
+}
+
+#[test]
 fn generated_rust_names_every_step_with_exact_bits() {
     let s = load(&veach()).unwrap();
     let code = s.to_rust();

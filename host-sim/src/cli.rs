@@ -58,15 +58,6 @@ pub enum SphereSamplingArg {
     Cone,
 }
 
-/// How quad lights are sampled.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum QuadSamplingArg {
-    /// Uniformly by area.
-    Area,
-    /// Uniformly in solid angle (spherical rectangles; by area where that is not stable).
-    SolidAngle,
-}
-
 /// The MIS sampling model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum MisModelArg {
@@ -117,9 +108,9 @@ pub struct RenderArgs {
     /// How a light is chosen among several.
     #[arg(long, value_name = "S", value_parser = selection_parser(), default_value = LightSelection::default().name())]
     pub light_selection: LightSelection,
-    /// How quad lights are sampled.
-    #[arg(long, value_enum, default_value_t = QuadSamplingArg::Area)]
-    pub quad_sampling: QuadSamplingArg,
+    /// How quad lights are sampled (default: the scene's integrator block, else area).
+    #[arg(long, value_name = "Q", value_parser = quad_sampling_parser())]
+    pub quad_sampling: Option<QuadSampling>,
     /// MIS model: multi-sample or one-sample (default: the scene's integrator block, else multi).
     #[arg(long, value_enum)]
     pub mis_model: Option<MisModelArg>,
@@ -182,8 +173,8 @@ pub struct ExtrasArgs {
     #[arg(long, value_name = "C", default_value_t = picomis::model::DEFAULT_C_LIGHT, allow_negative_numbers = true)]
     pub c_light: f32,
     /// How quad lights are sampled.
-    #[arg(long, value_enum, default_value_t = QuadSamplingArg::Area)]
-    pub quad_sampling: QuadSamplingArg,
+    #[arg(long, value_name = "Q", value_parser = quad_sampling_parser(), default_value_t = QuadSampling::default())]
+    pub quad_sampling: QuadSampling,
     /// Unoccluded light of quad and sphere lights on Lambertian surfaces in closed form.
     #[arg(long, value_enum, default_value_t = OnOff::Off)]
     pub control_variate: OnOff,
@@ -200,10 +191,7 @@ impl ExtrasArgs {
             .map_err(|e| SimError::Usage(format!("--mis-model {name} --c-light {}: {e}", self.c_light)))?;
         Ok(picomis::study::Extras {
             model,
-            quads: match self.quad_sampling {
-                QuadSamplingArg::Area => QuadSampling::Area,
-                QuadSamplingArg::SolidAngle => QuadSampling::SolidAngle,
-            },
+            quads: self.quad_sampling,
             control_variate: match self.control_variate {
                 OnOff::On => ControlVariate::On,
                 OnOff::Off => ControlVariate::Off,
@@ -262,6 +250,14 @@ fn method_parser() -> impl TypedValueParser<Value = Method> {
     PossibleValuesParser::new(names).try_map(|name| Method::from_name(&name).map_err(|e| e.to_string()))
 }
 
+/// The `--quad-sampling` value parser: the kernel's quad-light strategies (with their summaries).
+fn quad_sampling_parser() -> impl TypedValueParser<Value = QuadSampling> {
+    let names = QuadSampling::ALL.map(|q| PossibleValue::new(q.name()).help(q.summary()));
+    PossibleValuesParser::new(names).try_map(|name| {
+        QuadSampling::from_name(&name).ok_or_else(|| format!("unknown quad sampling {name:?}"))
+    })
+}
+
 /// The `--sampler` value parser: the kernel's sample streams.
 fn sampler_parser() -> impl TypedValueParser<Value = SamplerKind> {
     let names = SamplerKind::ALL.map(|k| PossibleValue::new(k.name()));
@@ -299,8 +295,10 @@ fn extras_note(s: &RenderSettings) -> String {
     if let MisModel::One { c_light } = s.mis_model() {
         note += &format!(", one-sample model (c_light {c_light})");
     }
-    if s.quad_sampling() == QuadSampling::SolidAngle {
-        note += ", quads by solid angle";
+    match s.quad_sampling() {
+        QuadSampling::Area => {}
+        QuadSampling::SolidAngle => note += ", quads by solid angle",
+        QuadSampling::SolidAngleCosine => note += ", quads by solid angle x cosine",
     }
     if s.control_variate() == ControlVariate::On {
         note += ", control variate";
@@ -348,10 +346,6 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
         SphereSamplingArg::Area => SphereSampling::Area,
         SphereSamplingArg::Cone => SphereSampling::Cone,
     };
-    let quads = match args.quad_sampling {
-        QuadSamplingArg::Area => QuadSampling::Area,
-        QuadSamplingArg::SolidAngle => QuadSampling::SolidAngle,
-    };
     let control_variate = match args.control_variate {
         OnOff::On => ControlVariate::On,
         OnOff::Off => ControlVariate::Off,
@@ -376,7 +370,7 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
     Ok(settings
         .with_sphere_sampling(spheres)
         .with_light_selection(args.light_selection)
-        .with_quad_sampling(quads)
+        .with_quad_sampling(args.quad_sampling.unwrap_or(loaded.file.default_quad_sampling()))
         .with_control_variate(control_variate)
         .with_sampler(sampler))
 }

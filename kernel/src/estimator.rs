@@ -232,6 +232,8 @@ pub struct Shading<'a, const L: usize> {
     frame: Frame,
     /// `wo` in the local frame.
     wo: Vec3,
+    /// The shading point as the light sampler sees it (world `wo`).
+    point: ShadingPoint,
     /// Light selection here, shared by light samples and the BSDF samples' weights.
     selection: SelectionAt<L>,
     /// The control variate applies here (it is on and the receiver is Lambertian).
@@ -260,7 +262,7 @@ impl<'a, const L: usize> Shading<'a, L> {
             settings.control_variate() == ControlVariate::On && matches!(bsdf, Material::Lambertian { .. });
         let (covered, unoccluded) =
             if control_variate { analytic::unoccluded_light(scene, bsdf, x, wo.z) } else { (0, Rgb::ZERO) };
-        Some(Shading { x, bsdf, frame, wo, selection, control_variate, covered, unoccluded })
+        Some(Shading { x, bsdf, frame, wo, point, selection, control_variate, covered, unoccluded })
     }
 
     /// Whether light `light`'s part is sampled as f (V - 1) (its unoccluded part is in closed form).
@@ -304,7 +306,7 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
     // One 2-D request: its first number chooses the light and, rescaled, places the point.
     let (u_select, v) = sampler.next_2d_reusable();
     let (chosen, u) = lights.select_reusing(&at.selection, u_select)?;
-    let ls = lights.sample(chosen.light, p, Vec2::new(u, v))?;
+    let ls = lights.sample(chosen.light, &at.point, Vec2::new(u, v))?;
     // The light technique's pdf of this direction: p_l = P(light) p_w(wi | light).
     let p_light = chosen.probability * ls.pdf;
     let wi = at.frame.to_local(ls.wi);
@@ -349,7 +351,7 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
             return;
         }
         let pdf = pdf();
-        let pdf_other = lights.pmf(&at.selection, light) * lights.pdf(light, p, &y.point);
+        let pdf_other = lights.pmf(&at.selection, light) * lights.pdf(light, &at.point, &y.point);
         found(Found { value: bs.weight * radiance, pdf, pdf_other, delta: false });
         return;
     }
@@ -361,7 +363,7 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
             (false, false) | (true, true) => return,
         };
         if radiance != Rgb::ZERO {
-            let pdf_other = lights.pmf(&at.selection, light) * lights.pdf(light, p, &y.point);
+            let pdf_other = lights.pmf(&at.selection, light) * lights.pdf(light, &at.point, &y.point);
             found(Found { value, pdf, pdf_other, delta: false });
         }
     });

@@ -17,8 +17,9 @@ use crate::light_importance::{light_cone, weighs_bsdf};
 use crate::material::Material;
 use crate::math::{Frame, Rgb, Vec2, Vec3, max0, safe_sqrt, sqrt};
 use crate::sampling::{
-    GRID, GridDistribution, SphericalRectangle, cone_one_minus_cos, sample_spherical_rectangle,
-    sample_uniform_cone, sample_uniform_index, spherical_rectangle, spherical_rectangle_pdf,
+    GRID, GridDistribution, SphericalRectangle, bilinear_pdf, cone_one_minus_cos,
+    invert_spherical_rectangle_sample, sample_bilinear, sample_spherical_rectangle, sample_uniform_cone,
+    sample_uniform_index, spherical_rectangle, spherical_rectangle_cosines, spherical_rectangle_pdf,
     uniform_cone_pdf, uniform_index_pmf,
 };
 use crate::scene::Scene;
@@ -48,6 +49,51 @@ pub enum QuadSampling {
     /// by area for quads that are not rectangles and where f32 cannot resolve the solid angle
     /// (tiny or grazing rectangles, see [`spherical_rectangle`]).
     SolidAngle,
+    /// In solid angle, with the 2-D sample first warped towards the receiver's cosine (Hart et
+    /// al. 2020, as pbrt-v4 does for rectangles): a bilinear density whose corner values are the
+    /// cosines towards the rectangle's corners ([`spherical_rectangle_cosines`]); the pdf is the
+    /// spherical rectangle's times the bilinear one. The same fallback to area as
+    /// [`QuadSampling::SolidAngle`].
+    SolidAngleCosine,
+}
+
+impl QuadSampling {
+    /// Every strategy, the default first.
+    pub const ALL: [QuadSampling; 3] =
+        [QuadSampling::Area, QuadSampling::SolidAngle, QuadSampling::SolidAngleCosine];
+
+    /// The strategy's name (command line, reports).
+    pub fn name(self) -> &'static str {
+        match self {
+            QuadSampling::Area => "area",
+            QuadSampling::SolidAngle => "solid-angle",
+            QuadSampling::SolidAngleCosine => "solid-angle-cosine",
+        }
+    }
+
+    /// One line about the strategy (command-line help).
+    pub fn summary(self) -> &'static str {
+        match self {
+            QuadSampling::Area => "uniformly by area",
+            QuadSampling::SolidAngle => {
+                "uniformly in solid angle (spherical rectangles; by area where unstable)"
+            }
+            QuadSampling::SolidAngleCosine => {
+                "in solid angle, warped by the receiver's cosine (Hart et al. 2020)"
+            }
+        }
+    }
+
+    /// The strategy called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|q| q.name() == name)
+    }
+}
+
+impl core::fmt::Display for QuadSampling {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// How a light is chosen when a scene has several.
@@ -154,6 +200,15 @@ pub struct LightSample {
     pub delta: bool,
     /// The shape the point lies on (area lights): the shadow ray may end on it.
     pub emitter: Option<ShapeId>,
+}
+
+impl LightSample {
+    /// A sample of an area light towards `wi` at `distance` with `pdf`; the caller fills in its
+    /// radiance and emitter.
+    #[inline]
+    fn towards(wi: Vec3, distance: f32, pdf: f32) -> Self {
+        LightSample { wi, distance, radiance: Rgb::ZERO, pdf, delta: false, emitter: None }
+    }
 }
 
 /// Light sampling in one scene with one strategy for each choice.
@@ -274,43 +329,37 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         }
     }
 
-    /// Draws a point on `light` as seen from `x` with the random numbers `u`; `None` when the
-    /// sample carries no light (see [`Light::sample_li`]) or the scene has no such light.
+    /// Draws a point on `light` as seen from the shading point `at` with the random numbers `u`;
+    /// `None` when the sample carries no light (see [`Light::sample_li`]) or the scene has no
+    /// such light.
     #[inline]
-    pub fn sample(&self, light: LightId, x: Vec3, u: Vec2) -> Option<LightSample> {
+    pub fn sample(&self, light: LightId, at: &ShadingPoint, u: Vec2) -> Option<LightSample> {
+        let x = at.p;
         let light = self.scene.light(light)?;
         let shape = self.scene.light_shape(light);
         if let (Light::Area { radiance, shape: emitter }, Some(shape)) = (light, shape) {
             if let Some((rect, sr)) = rectangle_seen_from(shape, x, self.quads) {
                 // Decided by the setup alone, as in `pdf`: no fallback after this point.
-                let local = sample_spherical_rectangle(&sr, u)?;
-                let distance = sqrt(local.length_squared());
-                let wi = (rect.ex * local.x + rect.ey * local.y + rect.n * local.z) / distance;
-                let pdf = spherical_rectangle_pdf(&sr);
-                return (distance > 0.0 && pdf.is_finite()).then_some(LightSample {
-                    wi,
-                    distance,
-                    radiance: *radiance,
-                    pdf,
-                    delta: false,
-                    emitter: Some(*emitter),
-                });
+                let s = sample_rectangle(&rect, &sr, self.quads, at.n, u)?;
+                return Some(LightSample { radiance: *radiance, emitter: Some(*emitter), ..s });
             }
         }
         light.sample_li(shape, x, u, self.spheres)
     }
 
-    /// Pdf per unit solid angle at `x` with which [`LightSampler::sample`] draws the direction to
-    /// the point `y` of `light` (found by a BSDF ray), selection not included; 0 for point lights.
+    /// Pdf per unit solid angle at the shading point `at` with which [`LightSampler::sample`]
+    /// draws the direction to the point `y` of `light` (found by a BSDF ray), selection not
+    /// included; 0 for point lights.
     #[inline]
-    pub fn pdf(&self, light: LightId, x: Vec3, y: &SurfacePoint) -> f32 {
+    pub fn pdf(&self, light: LightId, at: &ShadingPoint, y: &SurfacePoint) -> f32 {
+        let x = at.p;
         match self.scene.light(light) {
             Some(light) => {
                 let shape = self.scene.light_shape(light);
-                if let (Light::Area { .. }, Some((_, sr))) =
+                if let (Light::Area { .. }, Some((rect, sr))) =
                     (light, shape.and_then(|s| rectangle_seen_from(s, x, self.quads)))
                 {
-                    return spherical_rectangle_pdf(&sr);
+                    return rectangle_pdf(&rect, &sr, self.quads, at, y.p);
                 }
                 light.pdf_li(shape, x, y, self.spheres)
             }
@@ -327,13 +376,68 @@ fn rectangle_seen_from(
     x: Vec3,
     quads: QuadSampling,
 ) -> Option<(Rectangle, SphericalRectangle)> {
-    if quads != QuadSampling::SolidAngle {
+    if quads == QuadSampling::Area {
         return None;
     }
     let rect = shape.as_rectangle()?;
     let d = rect.p0 - x;
     let corner = Vec3::new(d.dot(rect.ex), d.dot(rect.ey), d.dot(rect.n));
     Some((rect, spherical_rectangle(corner, rect.lengths.x, rect.lengths.y)?))
+}
+
+/// The corner weights of the cosine warp for a receiver with unit normal `n` (world).
+#[inline]
+fn cosine_weights(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3) -> [f32; 4] {
+    spherical_rectangle_cosines(sr, Vec3::new(n.dot(rect.ex), n.dot(rect.ey), n.dot(rect.n)))
+}
+
+/// A direction to the rectangle `rect` (seen as `sr`) from a receiver with unit normal `n`, in
+/// solid angle, first warped by the cosine for [`QuadSampling::SolidAngleCosine`]; radiance and
+/// emitter are left for the caller. Out of line, like [`rectangle_pdf`]: one copy in the
+/// firmware, and the code of spheres and points does not grow.
+#[inline(never)]
+fn sample_rectangle(
+    rect: &Rectangle,
+    sr: &SphericalRectangle,
+    quads: QuadSampling,
+    n: Vec3,
+    u: Vec2,
+) -> Option<LightSample> {
+    let (u, warp_pdf) = match quads {
+        QuadSampling::SolidAngleCosine => {
+            let w = cosine_weights(rect, sr, n);
+            let v = sample_bilinear(u, w);
+            (v, bilinear_pdf(v, w))
+        }
+        _ => (u, 1.0),
+    };
+    let local = sample_spherical_rectangle(sr, u)?;
+    let distance = sqrt(local.length_squared());
+    let wi = (rect.ex * local.x + rect.ey * local.y + rect.n * local.z) / distance;
+    let pdf = spherical_rectangle_pdf(sr) * warp_pdf;
+    (distance > 0.0 && pdf.is_finite()).then_some(LightSample::towards(wi, distance, pdf))
+}
+
+/// The pdf with which [`sample_rectangle`] reaches the point `y` of the rectangle from the
+/// shading point `at`: 1 / solid angle, times the bilinear pdf of the u that reaches `y` for
+/// [`QuadSampling::SolidAngleCosine`].
+#[inline(never)]
+fn rectangle_pdf(
+    rect: &Rectangle,
+    sr: &SphericalRectangle,
+    quads: QuadSampling,
+    at: &ShadingPoint,
+    y: Vec3,
+) -> f32 {
+    let pdf = spherical_rectangle_pdf(sr);
+    match quads {
+        QuadSampling::SolidAngleCosine => {
+            let v = y - at.p;
+            let local = Vec3::new(v.dot(rect.ex), v.dot(rect.ey), v.dot(rect.n));
+            pdf * bilinear_pdf(invert_spherical_rectangle_sample(sr, local), cosine_weights(rect, sr, at.n))
+        }
+        _ => pdf,
+    }
 }
 
 impl Light {
@@ -437,14 +541,7 @@ fn sample_sphere_cone(center: Vec3, radius: f32, x: Vec3, u: Vec2) -> Option<Lig
     let sin2 = local.x * local.x + local.y * local.y;
     let distance = max0(d * local.z - safe_sqrt(radius * radius - d2 * sin2));
     let pdf = uniform_cone_pdf(omc);
-    (pdf > 0.0 && pdf.is_finite()).then_some(LightSample {
-        wi,
-        distance,
-        radiance: Rgb::ZERO,
-        pdf,
-        delta: false,
-        emitter: None,
-    })
+    (pdf > 0.0 && pdf.is_finite()).then_some(LightSample::towards(wi, distance, pdf))
 }
 
 #[cfg(test)]
@@ -498,13 +595,15 @@ mod tests {
         let s = scene();
         let lights = LightSampler::new(&s, LightSelection::Power, SphereSampling::Cone);
         let x = Vec3::new(0.0, 3.0, 0.0);
-        let ls = lights.sample(LightId::new(0), x, Vec2::new(0.3, 0.6)).unwrap();
+        let at =
+            ShadingPoint { p: x, n: Vec3::Y, wo: Vec3::Y, bsdf: Material::lambertian(Rgb::ONE).unwrap() };
+        let ls = lights.sample(LightId::new(0), &at, Vec2::new(0.3, 0.6)).unwrap();
         assert_eq!(ls.emitter, Some(ShapeId::new(0)));
         let y = SurfacePoint { p: x + ls.wi * ls.distance, n: (x + ls.wi * ls.distance).normalize() };
-        assert_eq!(lights.pdf(LightId::new(0), x, &y), ls.pdf);
-        let point = lights.sample(LightId::new(1), x, Vec2::new(0.3, 0.6)).unwrap();
+        assert_eq!(lights.pdf(LightId::new(0), &at, &y), ls.pdf);
+        let point = lights.sample(LightId::new(1), &at, Vec2::new(0.3, 0.6)).unwrap();
         assert!(point.delta && point.emitter.is_none() && point.pdf == 1.0);
-        assert!(lights.sample(LightId::new(9), x, Vec2::ZERO).is_none());
-        assert_eq!(lights.pdf(LightId::new(9), x, &y), 0.0);
+        assert!(lights.sample(LightId::new(9), &at, Vec2::ZERO).is_none());
+        assert_eq!(lights.pdf(LightId::new(9), &at, &y), 0.0);
     }
 }

@@ -196,6 +196,106 @@ impl SphericalRectangle {
     }
 }
 
+/// The random numbers with which [`sample_spherical_rectangle`] reaches the point `p` of the
+/// rectangle (local frame; only its x and y are read, clamped to the rectangle): the inverse of
+/// the map, in closed form. u.x is the solid angle of the part x0 <= x <= p.x over the whole
+/// (the sum of that part's corner terms, as in [`spherical_rectangle`]); u.y is where
+/// y / sqrt(x^2 + y^2 + z0^2) lies between its values at y0 and y1. Both are in [0, 1].
+#[inline]
+pub fn invert_spherical_rectangle_sample(r: &SphericalRectangle, p: Vec3) -> Vec2 {
+    let xu = clamp(p.x, r.x0, r.x1);
+    let yv = clamp(p.y, r.y0, r.y1);
+    let d2 = xu * xu + r.z0 * r.z0;
+    let corner_angle = |xy: f32, r2: f32| atan2(xy, -r.z0 * sqrt(r2));
+    let part = (corner_angle(xu * r.y1, d2 + r.y1 * r.y1) - corner_angle(xu * r.y0, d2 + r.y0 * r.y0)) + r.k;
+    let ux = part / r.solid_angle;
+    let h = |y: f32| y / sqrt(d2 + y * y);
+    let (h0, h1) = (h(r.y0), h(r.y1));
+    let uy = if h1 > h0 { (h(yv) - h0) / (h1 - h0) } else { 0.5 };
+    let unit = |v: f32| if v > 0.0 { if v < 1.0 { v } else { 1.0 } } else { 0.0 };
+    Vec2::new(unit(ux), unit(uy))
+}
+
+/// The largest f32 below 1: samples on [0, 1) stay below it.
+pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// A point of [0, 1) with density proportional to (1 - x) a + x b (`a`, `b` finite and
+/// non-negative; uniform when both are 0), by inverting its cdf:
+/// x = u (a + b) / (a + sqrt((1 - u) a^2 + u b^2)) (pbrt-v4's `SampleLinear`).
+#[inline]
+pub fn sample_linear(u: f32, a: f32, b: f32) -> f32 {
+    let sum = a + b;
+    if !(sum > 0.0) {
+        return clamp(u, 0.0, ONE_MINUS_EPSILON);
+    }
+    let denominator = a + sqrt((1.0 - u) * (a * a) + u * (b * b));
+    let x = if denominator > 0.0 { u * sum / denominator } else { 0.0 };
+    clamp(x, 0.0, ONE_MINUS_EPSILON)
+}
+
+/// Pdf of [`sample_linear`]: 2 ((1 - x) a + x b) / (a + b) on [0, 1] (1 when a + b = 0), else 0.
+#[inline]
+pub fn linear_pdf(x: f32, a: f32, b: f32) -> f32 {
+    let sum = a + b;
+    if !(0.0..=1.0).contains(&x) {
+        0.0
+    } else if !(sum > 0.0) {
+        1.0
+    } else {
+        2.0 * ((1.0 - x) * a + x * b) / sum
+    }
+}
+
+/// A point of [0, 1)^2 with density proportional to the bilinear interpolation of the corner
+/// values `w` at (0, 0), (1, 0), (0, 1) and (1, 1) (finite, non-negative): y from its marginal,
+/// then x given y, each by [`sample_linear`] (pbrt-v4's `SampleBilinear`).
+#[inline]
+pub fn sample_bilinear(u: Vec2, w: [f32; 4]) -> Vec2 {
+    let [w00, w10, w01, w11] = w;
+    let y = sample_linear(u.y, w00 + w10, w01 + w11);
+    let x = sample_linear(u.x, (1.0 - y) * w00 + y * w01, (1.0 - y) * w10 + y * w11);
+    Vec2::new(x, y)
+}
+
+/// Pdf of [`sample_bilinear`] on the unit square: 4 bilerp(w; p) / (w00 + w10 + w01 + w11)
+/// (1 when every weight is 0), 0 outside it.
+#[inline]
+pub fn bilinear_pdf(p: Vec2, w: [f32; 4]) -> f32 {
+    let [w00, w10, w01, w11] = w;
+    let (x, y) = (p.x, p.y);
+    let sum = (w00 + w10) + (w01 + w11);
+    if !((0.0..=1.0).contains(&x) && (0.0..=1.0).contains(&y)) {
+        0.0
+    } else if !(sum > 0.0) {
+        1.0
+    } else {
+        let bilerp = (1.0 - y) * ((1.0 - x) * w00 + x * w10) + y * ((1.0 - x) * w01 + x * w11);
+        4.0 * bilerp / sum
+    }
+}
+
+/// The smallest corner weight of the cosine warp (pbrt-v4's 0.01): corners below the receiver's
+/// horizon keep some density, so every direction to the rectangle keeps a positive pdf.
+pub const COSINE_WARP_FLOOR: f32 = 0.01;
+
+/// The corner weights of the cosine-warped spherical rectangle (Hart, Pharr, Müller, Lopes,
+/// McGuire and Shirley 2020, "Practical Product Sampling by Fitting and Composing Warps"): the
+/// receiver's cosines max([`COSINE_WARP_FLOOR`], n . v / |v|) towards the corners (x0, y0),
+/// (x1, y0), (x0, y1), (x1, y1), which [`sample_spherical_rectangle`] reaches at u = (0, 0),
+/// (1, 0), (0, 1), (1, 1). `n` is the receiver's unit normal in the rectangle's local frame.
+/// Warping u by [`sample_bilinear`] with them draws directions roughly in proportion to the
+/// cosine; the pdf is [`spherical_rectangle_pdf`] times [`bilinear_pdf`] at the u of the
+/// direction ([`invert_spherical_rectangle_sample`]).
+#[inline]
+pub fn spherical_rectangle_cosines(r: &SphericalRectangle, n: Vec3) -> [f32; 4] {
+    let cosine = |x: f32, y: f32| {
+        let v = Vec3::new(x, y, r.z0);
+        let c = n.dot(v) / sqrt(v.length_squared());
+        if c > COSINE_WARP_FLOOR { c } else { COSINE_WARP_FLOOR }
+    };
+    [cosine(r.x0, r.y0), cosine(r.x1, r.y0), cosine(r.x0, r.y1), cosine(r.x1, r.y1)]
+}
+
 /// GGX normal distribution D(m) for isotropic `alpha`, `m` in the local frame.
 /// Written as 1 / (pi a^2 (m_z^2 + (m_x^2 + m_y^2)/a^2)^2), which neither overflows nor loses
 /// precision for alpha down to 1e-4.
@@ -408,6 +508,70 @@ mod tests {
                 assert!((w.length() - 1.0).abs() < 1e-5);
             }
         }
+    }
+
+    #[test]
+    fn spherical_rectangle_samples_invert_to_their_u() {
+        // Overhead, off to the side, huge and close, long and thin: sample, then invert.
+        let cases = [
+            (Vec3::new(-0.5, -0.5, -1.0), 1.0, 1.0),
+            (Vec3::new(1.0, 0.3, -0.8), 1.5, 0.7),
+            (Vec3::new(-50.0, -50.0, -0.2), 100.0, 100.0),
+            (Vec3::new(-20.0, 0.0, -1.0), 40.0, 0.1),
+        ];
+        let mut worst = 0.0f32;
+        for (corner, ex, ey) in cases {
+            let r = spherical_rectangle(corner, ex, ey).unwrap();
+            for i in 0..33 {
+                for j in 0..33 {
+                    let u = Vec2::new(i as f32 / 32.0, j as f32 / 32.0) * 0.998 + Vec2::splat(0.001);
+                    let p = sample_spherical_rectangle(&r, u).unwrap();
+                    let back = invert_spherical_rectangle_sample(&r, p);
+                    worst = worst.max((back - u).abs().max_element());
+                }
+            }
+        }
+        assert!(worst < 1e-4, "{worst}");
+        // The corners of the unit square are the rectangle's corners, in the warp's order.
+        let r = spherical_rectangle(Vec3::new(1.0, 0.3, -0.8), 1.5, 0.7).unwrap();
+        let n = Vec3::new(0.3, -0.2, -0.9).normalize();
+        let w = spherical_rectangle_cosines(&r, n);
+        for (k, u) in [(0, Vec2::ZERO), (1, Vec2::X), (2, Vec2::Y), (3, Vec2::ONE)] {
+            let p = sample_spherical_rectangle(&r, u * 0.999_999 + Vec2::splat(5e-8)).unwrap();
+            let c = n.dot(p) / p.length();
+            assert!((c - w[k]).abs() < 1e-3, "corner {k}: {c} vs {}", w[k]);
+        }
+    }
+
+    #[test]
+    fn bilinear_samples_follow_their_pdf() {
+        // The pdf integrates to one, and the samples of a 64 x 64 grid of u land with the pdf's
+        // mass per quadrant (to the grid's resolution).
+        for w in [[0.01, 1.0, 0.5, 0.2], [1.0, 1.0, 1.0, 1.0], [0.0, 0.0, 0.0, 3.0], [0.0; 4]] {
+            let n = 200;
+            let mut integral = 0.0;
+            for i in 0..n {
+                for j in 0..n {
+                    let p = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                    integral += bilinear_pdf(p, w) / (n * n) as f32;
+                }
+            }
+            assert!((integral - 1.0).abs() < 1e-3, "{w:?}: {integral}");
+            let mut left = 0.0;
+            for i in 0..64 {
+                for j in 0..64 {
+                    let p = sample_bilinear(Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0), w);
+                    assert!((0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y), "{w:?}: {p}");
+                    left += f32::from(p.x < 0.5) / 4096.0;
+                }
+            }
+            let sum: f32 = w.iter().sum();
+            let expected = if sum > 0.0 { (0.75 * (w[0] + w[2]) + 0.25 * (w[1] + w[3])) / sum } else { 0.5 };
+            assert!((left - expected).abs() < 0.02, "{w:?}: {left} vs {expected}");
+        }
+        assert_eq!(bilinear_pdf(Vec2::new(1.5, 0.5), [1.0; 4]), 0.0);
+        assert_eq!(sample_linear(0.0, 0.0, 1.0), 0.0);
+        assert!(sample_linear(0.999_999_94, 1.0, 0.0) < 1.0);
     }
 
     #[test]

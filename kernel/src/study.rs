@@ -87,7 +87,7 @@ impl StudyMethod {
 /// beyond the lecture, each against balance. The heuristics sample sphere lights by cone. (The
 /// Veach region study renders each light alone, which leaves the selection probabilities
 /// unchanged only under uniform selection: it leaves out the methods that choose otherwise.)
-pub fn study_methods() -> [StudyMethod; 14] {
+pub fn study_methods() -> [StudyMethod; 15] {
     let mis = Method::Mis;
     let (cone, area) = (SphereSampling::Cone, SphereSampling::Area);
     let study = |label, title, method, spheres| StudyMethod {
@@ -135,6 +135,10 @@ pub fn study_methods() -> [StudyMethod; 14] {
         StudyMethod {
             extras: Extras { quads: QuadSampling::SolidAngle, ..Extras::default() },
             ..study("balance_sa", "balance, quads by solid angle", balance, cone)
+        },
+        StudyMethod {
+            extras: Extras { quads: QuadSampling::SolidAngleCosine, ..Extras::default() },
+            ..study("balance_sac", "balance, quads by solid angle x cosine", balance, cone)
         },
         StudyMethod {
             extras: Extras { control_variate: ControlVariate::On, ..Extras::default() },

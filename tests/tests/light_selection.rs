@@ -128,7 +128,7 @@ fn every_light_that_contributes_can_be_chosen() {
         for i in 0..6 {
             let light = LightId::new(i);
             let contributes = (0..64).any(|_| {
-                lights.sample(light, point.p, rng.next_2d()).is_some_and(|ls| {
+                lights.sample(light, &point, rng.next_2d()).is_some_and(|ls| {
                     let f = point.bsdf.eval(wo, frame.to_local(ls.wi)) * ls.radiance;
                     f.max_element() > 0.0
                 })
@@ -157,7 +157,7 @@ fn the_light_and_bsdf_weights_of_a_direction_sum_to_one() {
         let wo = frame.to_local(point.wo);
         let at = lights.selection_at(&point);
         let Some(chosen) = lights.select(&at, rng.next_f32()) else { continue };
-        let Some(ls) = lights.sample(chosen.light, point.p, rng.next_2d()) else { continue };
+        let Some(ls) = lights.sample(chosen.light, &point, rng.next_2d()) else { continue };
         let (f, p_bsdf) = point.bsdf.eval_pdf(wo, frame.to_local(ls.wi));
         if ls.delta || f == Rgb::ZERO {
             continue;
@@ -168,7 +168,7 @@ fn the_light_and_bsdf_weights_of_a_direction_sum_to_one() {
         let shape = s.light_shape(s.light(chosen.light).unwrap()).unwrap();
         let p = point.p + ls.wi * ls.distance;
         let y = SurfacePoint { p, n: shape.normal_at(p) };
-        let q_light_seen_by_bsdf = lights.pmf(&at, chosen.light) * lights.pdf(chosen.light, point.p, &y);
+        let q_light_seen_by_bsdf = lights.pmf(&at, chosen.light) * lights.pdf(chosen.light, &point, &y);
         for h in heuristics().into_iter().chain([Heuristic::Power { beta: 2.0 }]) {
             let m = Method::Mis(h);
             let w_light = m.weight(Technique::Light, q_light, p_bsdf);

@@ -46,8 +46,8 @@ use picomis::math::Frame;
 use picomis::sampling::{sample_cosine_hemisphere, sample_uniform_sphere};
 use picomis::{
     CameraDesc, Estimate, Film, FovAxis, Heuristic, Light, LightId, LightSampler, LightSelection, Material,
-    Method, Ray, RenderSettings, Rgb, Sampler, Scene, ShadingPoint, Shape, ShapeId, SphereSampling,
-    SurfacePoint, Vec3, render, render_pixel, render_tile, tiles, tone_map,
+    Method, QuadSampling, Ray, RenderSettings, Rgb, Sampler, Scene, ShadingPoint, Shape, ShapeId,
+    SphereSampling, SurfacePoint, Vec3, render, render_pixel, render_tile, tiles, tone_map,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseResult, TestRng, TestRunner};
@@ -253,13 +253,15 @@ fn settings() -> impl Strategy<Value = RenderSettings> {
     let method =
         prop_oneof![Just(Method::LightOnly), Just(Method::BsdfOnly), heuristic().prop_map(Method::Mis)];
     let selection = 0..LightSelection::ALL.len();
-    (method, 0u16..=3, 0u16..=3, 1u32..=3, any::<u32>(), any::<bool>(), selection).prop_map(
-        |(method, n_light, n_bsdf, spp, seed, cone, selection)| {
+    let quads = prop::sample::select(QuadSampling::ALL.to_vec());
+    (method, 0u16..=3, 0u16..=3, 1u32..=3, any::<u32>(), any::<bool>(), selection, quads).prop_map(
+        |(method, n_light, n_bsdf, spp, seed, cone, selection, quads)| {
             let s = RenderSettings::new(method, n_light, n_bsdf, spp, seed)
                 .or_else(|_| RenderSettings::new(method, n_light.max(1), n_bsdf.max(1), spp, seed))
                 .unwrap();
             s.with_sphere_sampling(if cone { SphereSampling::Cone } else { SphereSampling::Area })
                 .with_light_selection(LightSelection::ALL[selection])
+                .with_quad_sampling(quads)
         },
     )
 }
@@ -385,7 +387,7 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
     let (n_l, n_b) = settings.technique_samples();
     let counts = [(1.0, 1.0), (f32::from(n_l), f32::from(n_b))];
     let mut rng = Sampler::new(settings.seed(), 0x9DF, 0);
-    let lights = LightSampler::new(scene, selection, spheres);
+    let lights = LightSampler::new(scene, selection, spheres).with_quad_sampling(settings.quad_sampling());
     for (object, o) in scene.objects().iter().enumerate() {
         let object = ShapeId::new(object as u16);
         let material = *scene.material(object).unwrap();
@@ -406,7 +408,7 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
             let point = ShadingPoint { p, n: y.n, wo: frame.to_world(wo), bsdf: material };
             let shading = lights.selection_at(&point);
             let chosen = lights.select(&shading, u_select);
-            let sample = chosen.and_then(|c| Some((c, lights.sample(c.light, p, u)?)));
+            let sample = chosen.and_then(|c| Some((c, lights.sample(c.light, &point, u)?)));
             if let Some((chosen, ls)) = sample {
                 let what = format!("{at}: light sample {ls:?} of {chosen:?}");
                 prop_assert!(ls.pdf.is_finite() && ls.pdf > 0.0, "{what}: pdf");
@@ -435,7 +437,7 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
                     if let Some((i, light)) = emitter {
                         prop_assert_eq!(light, chosen.light, "{}: the sample's emitter", what);
                         let shape = &scene.objects()[i.index()].shape;
-                        tally.add(check_sample_pdf(&lights, shape, light, p, &ls, settings, &what)?);
+                        tally.add(check_sample_pdf(&lights, shape, light, &point, &ls, settings, &what)?);
                     }
                     if f != Rgb::ZERO {
                         tally.add("light sample with f > 0");
@@ -451,7 +453,7 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
             tally.add(check_bsdf_sample(&material, wo, &bs, &what)?);
             let ray = Ray { origin: p, dir: frame.to_world(bs.wi) };
             if let Some((hit, light, radiance)) = scene.emitter_hit(&ray, object) {
-                let p_light = lights.pmf(&shading, light) * lights.pdf(light, p, &hit.point);
+                let p_light = lights.pmf(&shading, light) * lights.pdf(light, &point, &hit.point);
                 prop_assert!(pdf_ok(p_light), "{what}: light pdf {p_light} at {hit:?}");
                 if radiance != Rgb::ZERO {
                     prop_assert!(
@@ -521,15 +523,15 @@ fn check_sample_pdf(
     lights: &LightSampler<'_, 8, 8, 8>,
     shape: &Shape,
     light: LightId,
-    p: Vec3,
+    at: &ShadingPoint,
     ls: &picomis::LightSample,
     settings: &RenderSettings,
     what: &str,
 ) -> Result<&'static str, TestCaseError> {
-    let spheres = settings.sphere_sampling();
+    let (p, spheres) = (at.p, settings.sphere_sampling());
     let yp = p + ls.wi * ls.distance;
     let y = SurfacePoint { p: yp, n: shape.normal_at(yp) };
-    let again = lights.pdf(light, p, &y);
+    let again = lights.pdf(light, at, &y);
     prop_assert!(pdf_ok(again), "{what}: light_pdf {again}");
     let by_cone = match (spheres, shape.as_sphere()) {
         (SphereSampling::Cone, Some((c, r))) => (c - p).length_squared() > r * r,
@@ -584,7 +586,13 @@ fn point_lights_have_no_light_pdf() {
     let y = SurfacePoint { p: Vec3::Y, n: -Vec3::Y };
     for spheres in [SphereSampling::Area, SphereSampling::Cone] {
         let lights = LightSampler::new(&scene, LightSelection::Uniform, spheres);
-        assert_eq!(lights.pdf(LightId::new(0), Vec3::ZERO, &y), 0.0);
+        let at = ShadingPoint {
+            p: Vec3::ZERO,
+            n: Vec3::Y,
+            wo: Vec3::Y,
+            bsdf: Material::lambertian(Rgb::ONE).unwrap(),
+        };
+        assert_eq!(lights.pdf(LightId::new(0), &at, &y), 0.0);
     }
 }
 

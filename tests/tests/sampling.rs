@@ -496,13 +496,14 @@ fn chi2_scene_light_sampling() {
             let (mut point, mut none) = ([0.0; 2], 0.0);
             let lights = LightSampler::new(&s, selection, spheres);
             let bsdf = Material::lambertian(Rgb::ONE).unwrap();
-            let at = lights.selection_at(&ShadingPoint { p: x, n: Vec3::Y, wo: Vec3::Y, bsdf });
+            let shading = ShadingPoint { p: x, n: Vec3::Y, wo: Vec3::Y, bsdf };
+            let at = lights.selection_at(&shading);
             let mut rng = Sampler::new(300 + k, 0, 0);
             for _ in 0..N_CHI2 {
                 let u_select = rng.next_f32();
                 let u = rng.next_2d();
                 let chosen = lights.select(&at, u_select).unwrap();
-                let sample = lights.sample(chosen.light, x, u);
+                let sample = lights.sample(chosen.light, &shading, u);
                 match sample.map(|ls| (ls, ls.emitter.map(ShapeId::index))) {
                     Some((ls, Some(0))) => match spheres {
                         SphereSampling::Cone => hs.add(cone.coords(d3(ls.wi))),
@@ -523,7 +524,7 @@ fn chi2_scene_light_sampling() {
             let n = N_CHI2 as f64;
             let pdf_at = |light: u16, p: Vec3, nrm: Vec3| {
                 let light = LightId::new(light);
-                let p_omega = lights.pdf(light, x, &SurfacePoint { p, n: nrm });
+                let p_omega = lights.pdf(light, &shading, &SurfacePoint { p, n: nrm });
                 f64::from(lights.pmf(&at, light)) * f64::from(p_omega)
             };
             let (es, ts) = match spheres {

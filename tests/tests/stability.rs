@@ -195,9 +195,19 @@ impl Case {
     }
 
     /// The same case with quads sampled in solid angle, labelled so.
-    fn solid_angle(mut self) -> Self {
-        self.quads = QuadSampling::SolidAngle;
-        self.label += ", quads by solid angle";
+    fn solid_angle(self) -> Self {
+        self.quads(QuadSampling::SolidAngle, ", quads by solid angle")
+    }
+
+    /// The same case with quads sampled in solid angle warped by the receiver's cosine.
+    fn solid_angle_cosine(self) -> Self {
+        self.quads(QuadSampling::SolidAngleCosine, ", quads by solid angle x cosine")
+    }
+
+    /// The same case with quads sampled by `quads` (no method then fails), labelled with `suffix`.
+    fn quads(mut self, quads: QuadSampling, suffix: &str) -> Self {
+        self.quads = quads;
+        self.label += suffix;
         self.except.clear();
         self
     }
@@ -709,7 +719,7 @@ fn huge_quad() -> Case {
 }
 
 #[test]
-fn quads_by_solid_angle_and_control_variate() {
+fn quads_by_solid_angle_cosine_and_control_variate() {
     run_group(
         6,
         vec![
@@ -719,8 +729,29 @@ fn quads_by_solid_angle_and_control_variate() {
             lit_sphere().control_variate(),
             below_horizon().control_variate(),
             huge_quad().control_variate(),
+            huge_quad().solid_angle_cosine(),
+            lit_quad().solid_angle_cosine(),
+            horizon_quad(),
+            horizon_quad().solid_angle(),
+            horizon_quad().solid_angle_cosine(),
         ],
     );
+}
+
+/// A Lambertian floor at the origin and a 1 x 1 quad light standing upright 1 away, facing it,
+/// whose lower half is below the floor's horizon: the cosine is 0.41 at its top corners and 0
+/// from its middle down, so the cosine warp's corner weights are 0.41 and the floor 0.01.
+fn horizon_quad() -> Case {
+    let mut s = Setup::floor(lambertian());
+    let corners =
+        quad_corners(Vec3::new(-0.5, -0.5, -1.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+    assert!(Shape::quad(corners).unwrap().normal_at(corners[0]).z > 0.0);
+    s.quad_light(corners, 2.0);
+    let hit = origin_hit();
+    // Only the half above the horizon lights the floor.
+    let above = quad_corners(Vec3::new(-0.5, 0.0, -1.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.5, 0.0));
+    let exact = lambert_out(lambert_polygon_irradiance(DVec3::ZERO, DVec3::Y, &above.map(d3), 2.0));
+    Case::new("quad light cut in half by the horizon", s.scene, hit, wo_default(), Reference::Exact(exact))
 }
 
 #[test]
