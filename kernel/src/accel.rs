@@ -11,10 +11,83 @@
 //!   object index among equal ones.
 //!
 //! Only hosted targets get the packets ([`ENABLED`]); on a microcontroller (no vector unit, and
-//! RAM for one copy of the shapes only) the scene runs the plain loop, with the same bits.
+//! RAM for one copy of the shapes only) the queries run a plain loop over the objects, with the
+//! same bits, through the origin terms of the rays ([`RaysFrom`]) where they are kept.
+
+use heapless::Vec;
+
+use crate::math::{SOFT_FLOAT, Vec3};
+use crate::shape::{OriginTerms, Ray, Shape};
 
 /// Whether scenes keep packets and run ray queries through them on this target.
 pub const ENABLED: bool = cfg!(not(target_os = "none"));
+
+/// Rays from one origin, with every object's [`OriginTerms`] where they are kept: computed once
+/// for all the rays from there instead of once per ray-object test. Microcontrollers keep the
+/// camera's ([`RaysFrom::camera`]), and a shading point's where f32 operations are soft-float
+/// calls ([`SOFT_FLOAT`]: there, sharing them between the shadow and the BSDF ray pays for the
+/// loads and stores). The packets of hosted targets keep none.
+#[derive(Clone, Debug)]
+pub(crate) struct RaysFrom<const S: usize> {
+    origin: Vec3,
+    /// Empty, or the terms of every object in order.
+    terms: Vec<OriginTerms, S>,
+}
+
+impl<const S: usize> RaysFrom<S> {
+    /// The rays from a shading point at `origin` among `shapes` (every object's, in order).
+    #[inline]
+    pub(crate) fn point<'a>(origin: Vec3, shapes: impl Iterator<Item = &'a Shape>) -> Self {
+        Self::keeping(SOFT_FLOAT && !ENABLED, origin, shapes)
+    }
+
+    /// The rays from the camera at `origin` among `shapes` (every object's, in order).
+    pub(crate) fn camera<'a>(origin: Vec3, shapes: impl Iterator<Item = &'a Shape>) -> Self {
+        Self::keeping(!ENABLED, origin, shapes)
+    }
+
+    #[inline(always)]
+    fn keeping<'a>(keep: bool, origin: Vec3, shapes: impl Iterator<Item = &'a Shape>) -> Self {
+        let mut rays = Self { origin, terms: Vec::new() };
+        if keep {
+            for shape in shapes {
+                let _ = rays.terms.push(shape.origin_terms(origin)); // room: at most S objects
+            }
+        }
+        rays
+    }
+
+    /// The same rays with object `shape` added (the scene's next object).
+    pub(crate) fn push(&mut self, shape: &Shape) {
+        if !ENABLED {
+            let _ = self.terms.push(shape.origin_terms(self.origin)); // room: at most S objects
+        }
+    }
+
+    /// The ray from here along the unit direction `dir`.
+    #[inline]
+    pub(crate) fn ray(&self, dir: Vec3) -> Ray {
+        Ray { origin: self.origin, dir }
+    }
+
+    /// Whether these are the rays from `origin` (the same bits).
+    #[inline]
+    pub(crate) fn start_at(&self, origin: Vec3) -> bool {
+        let same = |a: f32, b: f32| a.to_bits() == b.to_bits();
+        same(self.origin.x, origin.x) && same(self.origin.y, origin.y) && same(self.origin.z, origin.z)
+    }
+
+    /// Distance to object `i` (whose shape is `shape`) along `ray` (from here) in
+    /// `(t_min, t_max)`: through its terms where they are kept.
+    #[cfg_attr(not(target_os = "none"), allow(dead_code))]
+    #[inline(always)]
+    fn intersect(&self, i: usize, shape: &Shape, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        match self.terms.get(i) {
+            Some(terms) => shape.intersect_from(terms, ray, t_min, t_max),
+            None => shape.intersect(ray, t_min, t_max),
+        }
+    }
+}
 
 /// Which objects a query looks at.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,6 +103,7 @@ pub enum Filter {
 }
 
 impl Filter {
+    /// Whether the query looks at object `object` (`u16::MAX`: an empty lane), an emitter or not.
     #[cfg_attr(target_os = "none", allow(dead_code))]
     #[inline]
     fn admits(self, object: u16, emitter: bool) -> bool {
@@ -49,7 +123,7 @@ mod packets {
     use heapless::Vec;
     use wide::{CmpGe, CmpGt, CmpLe, CmpLt, CmpNe, f32x4};
 
-    use super::Filter;
+    use super::{Filter, RaysFrom};
     use crate::math::Vec3;
     use crate::shape::{Ray, Shape};
 
@@ -254,17 +328,20 @@ mod packets {
             }
         }
 
-        /// The nearest hit in `(t_min, t_max)` among the objects `filter` admits, as
-        /// `(distance, object)`; `objects(i)` is object i's shape. `None` when nothing is hit.
+        /// The nearest hit in `(t_min, t_max)` along the ray from `from` in direction `dir`
+        /// among the objects `filter` admits, as `(distance, object)`; `shape(i)` is object i's
+        /// shape. `None` when nothing is hit.
         #[inline]
-        pub fn nearest<'a>(
+        pub(crate) fn nearest<'a, const N: usize>(
             &self,
-            ray: &Ray,
+            from: &RaysFrom<N>,
+            dir: Vec3,
             t_min: f32,
             t_max: f32,
             filter: Filter,
             shape: impl Fn(usize) -> Option<&'a Shape>,
         ) -> Option<(f32, usize)> {
+            let ray = &from.ray(dir);
             let (mut t_far, mut best) = (t_max, usize::MAX);
             let mut offer = |t: f32, i: usize| {
                 // A front-to-back loop keeps the first of equal distances: the lowest index.
@@ -294,16 +371,19 @@ mod packets {
             (best != usize::MAX).then_some((t_far, best))
         }
 
-        /// True when any object `filter` admits is hit in `(t_min, t_max)`.
+        /// True when any object `filter` admits is hit in `(t_min, t_max)` along the ray from
+        /// `from` in direction `dir`.
         #[inline]
-        pub fn any<'a>(
+        pub(crate) fn any<'a, const N: usize>(
             &self,
-            ray: &Ray,
+            from: &RaysFrom<N>,
+            dir: Vec3,
             t_min: f32,
             t_max: f32,
             filter: Filter,
             shape: impl Fn(usize) -> Option<&'a Shape>,
         ) -> bool {
+            let ray = &from.ray(dir);
             let r = RayLanes::new(ray);
             for p in &self.quads {
                 let (_, hits) = p.distances(&r, t_min, t_max);
@@ -328,44 +408,120 @@ mod packets {
 }
 
 /// Microcontrollers keep no packets (no vector unit, and RAM for one copy of the shapes only):
-/// the scene runs its plain loops ([`ENABLED`] is false there).
+/// the queries run a plain loop over the objects, in index order, through the rays' origin terms
+/// where they are kept. The lists of emitters and of other objects let a query that looks at one
+/// kind skip the rest.
 #[cfg(target_os = "none")]
 mod packets {
-    use super::Filter;
-    use crate::shape::{Ray, Shape};
+    use heapless::Vec;
 
-    /// No packets.
+    use super::{Filter, RaysFrom};
+    use crate::math::Vec3;
+    use crate::shape::Shape;
+
+    /// Object indices, in increasing order: all of them, the emitters, the others.
     #[derive(Clone, Debug, Default)]
     pub struct Packets<const S: usize> {
-        _none: (),
+        all: Vec<u16, S>,
+        emitters: Vec<u16, S>,
+        others: Vec<u16, S>,
     }
 
+    /// Object index of "no object".
+    const NONE: usize = usize::MAX;
+
     impl<const S: usize> Packets<S> {
-        /// Nothing to store.
-        pub fn push(&mut self, _object: usize, _shape: &Shape) {}
-        /// Nothing to mark.
-        pub fn set_emitter(&mut self, _object: usize) {}
-        /// Never called ([`super::ENABLED`] is false).
-        pub fn nearest<'a>(
-            &self,
-            _ray: &Ray,
-            _t_min: f32,
-            _t_max: f32,
-            _filter: Filter,
-            _shape: impl Fn(usize) -> Option<&'a Shape>,
-        ) -> Option<(f32, usize)> {
-            None
+        /// Adds object `object`, not (yet) an emitter (there is room: the scene holds at most
+        /// `S` objects).
+        pub fn push(&mut self, object: usize, _shape: &Shape) {
+            let Ok(id) = u16::try_from(object) else { return };
+            let _ = self.all.push(id);
+            let _ = self.others.push(id);
         }
-        /// Never called ([`super::ENABLED`] is false).
-        pub fn any<'a>(
+
+        /// Marks object `object` as an emitter.
+        pub fn set_emitter(&mut self, object: usize) {
+            let Ok(id) = u16::try_from(object) else { return };
+            if let Ok(k) = self.others.binary_search(&id) {
+                self.others.remove(k);
+                let k = self.emitters.binary_search(&id).unwrap_or_else(|k| k);
+                let _ = self.emitters.insert(k, id);
+            }
+        }
+
+        /// The objects a query with `filter` looks at, and the one or two it skips among them.
+        #[inline]
+        fn candidates(&self, filter: Filter) -> (&[u16], usize, usize) {
+            match filter {
+                Filter::AllBut(a) => (&self.all, a, NONE),
+                Filter::EmittersBut(a) => (&self.emitters, a, NONE),
+                Filter::OthersBut(a) => (&self.others, a, NONE),
+                Filter::AllButTwo(a, b) => (&self.all, a, b),
+            }
+        }
+
+        /// The nearest hit in `(t_min, t_max)` along the ray from `from` in direction `dir`
+        /// among the objects `filter` admits, as `(distance, object)`; `shape(i)` is object i's
+        /// shape. `None` when nothing is hit.
+        #[inline]
+        pub(crate) fn nearest<'a>(
             &self,
-            _ray: &Ray,
-            _t_min: f32,
-            _t_max: f32,
-            _filter: Filter,
-            _shape: impl Fn(usize) -> Option<&'a Shape>,
+            from: &RaysFrom<S>,
+            dir: Vec3,
+            t_min: f32,
+            t_max: f32,
+            filter: Filter,
+            shape: impl Fn(usize) -> Option<&'a Shape>,
+        ) -> Option<(f32, usize)> {
+            self.first_hit(from, dir, t_min, t_max, filter, shape, false)
+        }
+
+        /// True when any object `filter` admits is hit in `(t_min, t_max)` along the ray from
+        /// `from` in direction `dir`.
+        #[inline]
+        pub(crate) fn any<'a>(
+            &self,
+            from: &RaysFrom<S>,
+            dir: Vec3,
+            t_min: f32,
+            t_max: f32,
+            filter: Filter,
+            shape: impl Fn(usize) -> Option<&'a Shape>,
         ) -> bool {
-            false
+            self.first_hit(from, dir, t_min, t_max, filter, shape, true).is_some()
+        }
+
+        /// The loop of both queries (one copy when every query passes the same `shape`, with
+        /// the ray-shape tests inlined into it): front to back, each test bounded by the nearest
+        /// hit so far; with `any`, the first hit found.
+        #[allow(clippy::too_many_arguments)]
+        fn first_hit<'a>(
+            &self,
+            from: &RaysFrom<S>,
+            dir: Vec3,
+            t_min: f32,
+            t_max: f32,
+            filter: Filter,
+            shape: impl Fn(usize) -> Option<&'a Shape>,
+            any: bool,
+        ) -> Option<(f32, usize)> {
+            let ray = from.ray(dir);
+            let (objects, a, b) = self.candidates(filter);
+            let (mut t_far, mut best) = (t_max, None);
+            for &i in objects {
+                let i = usize::from(i);
+                if i == a || i == b {
+                    continue;
+                }
+                let Some(s) = shape(i) else { continue };
+                if let Some(t) = from.intersect(i, s, &ray, t_min, t_far) {
+                    (t_far, best) = (t, Some(i));
+                    if any {
+                        break;
+                    }
+                }
+            }
+            best.map(|i| (t_far, i))
         }
     }
 }
@@ -459,13 +615,14 @@ mod tests {
                     Filter::AllButTwo(skip, 3),
                 ] {
                     let want = nearest_loop(&shapes, &ray, t_min, t_max, f);
-                    let got = packets.nearest(&ray, t_min, t_max, f, shape);
+                    let from: RaysFrom<16> = RaysFrom::point(ray.origin, core::iter::empty());
+                    let got = packets.nearest(&from, ray.dir, t_min, t_max, f, shape);
                     assert_eq!(
                         got.map(|(t, i)| (t.to_bits(), i)),
                         want.map(|(t, i)| (t.to_bits(), i)),
                         "{ray:?} {f:?}"
                     );
-                    assert_eq!(packets.any(&ray, t_min, t_max, f, shape), want.is_some());
+                    assert_eq!(packets.any(&from, ray.dir, t_min, t_max, f, shape), want.is_some());
                     hits += usize::from(want.is_some());
                 }
             }

@@ -9,6 +9,7 @@
 //! technique's weighted contribution and weights are kept apart, so the lecture's weight and
 //! contribution images come from this one function.
 
+use crate::accel::RaysFrom;
 use crate::analytic;
 use crate::ids::LightId;
 use crate::light::Light;
@@ -161,10 +162,12 @@ pub fn estimate_direct_multi_sample<const S: usize, const L: usize, const M: usi
     let method = settings.method();
     let (n_l, n_b) = settings.technique_samples();
     let (n_light, n_bsdf) = (f32::from(n_l), f32::from(n_b));
+    // Shadow and BSDF rays all start at x: what their tests need of x alone, computed once.
+    let from_x = scene.rays_from(at.x.point.p);
 
     // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
     for _ in 0..n_l {
-        if let Some(s) = light_sample(scene, settings, at, sampler) {
+        if let Some(s) = light_sample(scene, settings, at, &from_x, sampler) {
             add_light_sample(&mut by_light, method, &s, n_light, n_bsdf);
         }
     }
@@ -172,7 +175,7 @@ pub fn estimate_direct_multi_sample<const S: usize, const L: usize, const M: usi
     // Technique 2, BSDF sampling: wi ~ p_b, trace; if a light's front side is hit,
     // w_b L_e f cos / (n_b p_b), with p_l evaluated for the light that was hit.
     for _ in 0..n_b {
-        bsdf_sample(scene, settings, at, sampler, |s| {
+        bsdf_sample(scene, settings, at, &from_x, sampler, |s| {
             add_bsdf_sample(&mut by_bsdf, method, &s, n_light, n_bsdf)
         });
     }
@@ -192,13 +195,14 @@ pub fn estimate_direct_one_sample<const S: usize, const L: usize, const M: usize
     let method = settings.method();
     let c_light = settings.c_light();
     let c_bsdf = 1.0 - c_light;
+    let from_x = scene.rays_from(at.x.point.p);
     // The multi-sample formulas with n_i replaced by c_i, for one sample of one technique.
     if sampler.next_f32() < c_light {
-        if let Some(s) = light_sample(scene, settings, at, sampler) {
+        if let Some(s) = light_sample(scene, settings, at, &from_x, sampler) {
             add_light_sample(&mut by_light, method, &s, c_light, c_bsdf);
         }
     } else {
-        bsdf_sample(scene, settings, at, sampler, |s| {
+        bsdf_sample(scene, settings, at, &from_x, sampler, |s| {
             add_bsdf_sample(&mut by_bsdf, method, &s, c_light, c_bsdf)
         });
     }
@@ -295,6 +299,7 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
     at: &Shading<'_>,
+    from_x: &RaysFrom<S>,
     sampler: &mut Sampler,
 ) -> Option<Found> {
     let lights = light_sampler(scene, settings);
@@ -310,8 +315,7 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
     if f == Rgb::ZERO || ls.radiance == Rgb::ZERO {
         return None;
     }
-    let shadow = Ray { origin: p, dir: ls.wi };
-    let visible = scene.unoccluded(&shadow, ls.distance, at.x.object, ls.emitter);
+    let visible = scene.unoccluded_from(from_x, ls.wi, ls.distance, at.x.object, ls.emitter);
     let value = match (at.analytic(chosen.light), visible) {
         (false, true) => f * ls.radiance,
         (true, false) => -(f * ls.radiance),
@@ -329,20 +333,21 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
     at: &Shading<'_>,
+    from_x: &RaysFrom<S>,
     sampler: &mut Sampler,
     mut found: impl FnMut(Found),
 ) {
     let lights = light_sampler(scene, settings);
     let p = at.x.point.p;
     let Some(bs) = at.bsdf.sample(at.wo, sampler.next_2d()) else { return };
-    let ray = Ray { origin: p, dir: at.frame.to_world(bs.wi) };
+    let wi = at.frame.to_world(bs.wi);
     // The weight needs p_b as a function of the direction, the same function the light
     // technique's weight used (`eval_pdf`), so the two weights of a direction sum to one
     // exactly. (`bs.pdf`, from the sampled half vector, can differ from it by rounding at
     // grazing near-mirror angles; the sample's f / p_b, `bs.weight`, uses the exact one.)
     let pdf = || at.bsdf.pdf(at.wo, bs.wi);
     if !at.control_variate {
-        let Some((y, light, radiance)) = scene.emitter_hit(&ray, at.x.object) else { return };
+        let Some((y, light, radiance)) = scene.emitter_hit_from(from_x, wi, at.x.object) else { return };
         if radiance == Rgb::ZERO {
             return;
         }
@@ -352,7 +357,7 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
         return;
     }
     let pdf = pdf();
-    scene.emitters_along(&ray, at.x.object, |y, light, radiance, visible| {
+    scene.emitters_along_from(from_x, wi, at.x.object, |y, light, radiance, visible| {
         let value = match (at.analytic(light), visible) {
             (false, true) => bs.weight * radiance,
             (true, false) => -(bs.weight * radiance),
