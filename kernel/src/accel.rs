@@ -22,44 +22,39 @@ use crate::shape::{OriginTerms, Ray, Shape};
 /// Whether scenes keep packets and run ray queries through them on this target.
 pub const ENABLED: bool = cfg!(not(target_os = "none"));
 
-/// Rays from one origin, with every object's [`OriginTerms`] where they are kept: computed once
-/// for all the rays from there instead of once per ray-object test. Microcontrollers keep the
-/// camera's ([`RaysFrom::camera`]), and a shading point's where f32 operations are soft-float
+/// Rays from one origin, with every object's [`OriginTerms`] when `KEPT`: computed once for all
+/// the rays from there instead of once per ray-object test. Microcontrollers keep the camera's
+/// ([`CameraRays`]), and a shading point's ([`PointRays`]) where f32 operations are soft-float
 /// calls ([`SOFT_FLOAT`]: there, sharing them between the shadow and the BSDF ray pays for the
-/// loads and stores). The packets of hosted targets keep none.
+/// loads and stores; with an FPU the loads and stores cost as much as the terms). The packets
+/// of hosted targets keep none.
 #[derive(Clone, Debug)]
-pub(crate) struct RaysFrom<const S: usize> {
+pub(crate) struct RaysFrom<const S: usize, const KEPT: bool> {
     origin: Vec3,
-    /// Empty, or the terms of every object in order.
+    /// With `KEPT`, the terms of every object in order (else empty).
     terms: Vec<OriginTerms, S>,
 }
 
-impl<const S: usize> RaysFrom<S> {
-    /// The rays from a shading point at `origin` among `shapes` (every object's, in order).
+/// The rays from the camera.
+pub(crate) type CameraRays<const S: usize> = RaysFrom<S, { !ENABLED }>;
+/// The rays from a shading point (its shadow and BSDF rays).
+pub(crate) type PointRays<const S: usize> = RaysFrom<S, { SOFT_FLOAT && !ENABLED }>;
+
+impl<const S: usize, const KEPT: bool> RaysFrom<S, KEPT> {
+    /// The rays from `origin` among `shapes` (every object's, in order).
     #[inline]
-    pub(crate) fn point<'a>(origin: Vec3, shapes: impl Iterator<Item = &'a Shape>) -> Self {
-        Self::keeping(SOFT_FLOAT && !ENABLED, origin, shapes)
-    }
-
-    /// The rays from the camera at `origin` among `shapes` (every object's, in order).
-    pub(crate) fn camera<'a>(origin: Vec3, shapes: impl Iterator<Item = &'a Shape>) -> Self {
-        Self::keeping(!ENABLED, origin, shapes)
-    }
-
-    #[inline(always)]
-    fn keeping<'a>(keep: bool, origin: Vec3, shapes: impl Iterator<Item = &'a Shape>) -> Self {
+    pub(crate) fn new<'a>(origin: Vec3, shapes: impl Iterator<Item = &'a Shape>) -> Self {
         let mut rays = Self { origin, terms: Vec::new() };
-        if keep {
-            for shape in shapes {
-                let _ = rays.terms.push(shape.origin_terms(origin)); // room: at most S objects
-            }
+        for shape in shapes {
+            rays.push(shape);
         }
         rays
     }
 
     /// The same rays with object `shape` added (the scene's next object).
+    #[inline]
     pub(crate) fn push(&mut self, shape: &Shape) {
-        if !ENABLED {
+        if KEPT {
             let _ = self.terms.push(shape.origin_terms(self.origin)); // room: at most S objects
         }
     }
@@ -77,15 +72,11 @@ impl<const S: usize> RaysFrom<S> {
         same(self.origin.x, origin.x) && same(self.origin.y, origin.y) && same(self.origin.z, origin.z)
     }
 
-    /// Distance to object `i` (whose shape is `shape`) along `ray` (from here) in
-    /// `(t_min, t_max)`: through its terms where they are kept.
+    /// The kept origin terms of every object (with `KEPT`).
     #[cfg_attr(not(target_os = "none"), allow(dead_code))]
-    #[inline(always)]
-    fn intersect(&self, i: usize, shape: &Shape, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        match self.terms.get(i) {
-            Some(terms) => shape.intersect_from(terms, ray, t_min, t_max),
-            None => shape.intersect(ray, t_min, t_max),
-        }
+    #[inline]
+    fn terms(&self) -> &[OriginTerms] {
+        &self.terms
     }
 }
 
@@ -118,12 +109,21 @@ impl Filter {
     }
 }
 
+/// What a ray query needs of an object: its shape and whether it emits.
+pub(crate) trait Target {
+    /// The object's shape.
+    fn shape(&self) -> &Shape;
+    /// Whether the object is an emitter.
+    #[cfg_attr(not(target_os = "none"), allow(dead_code))]
+    fn emits(&self) -> bool;
+}
+
 #[cfg(not(target_os = "none"))]
 mod packets {
     use heapless::Vec;
     use wide::{CmpGe, CmpGt, CmpLe, CmpLt, CmpNe, f32x4};
 
-    use super::{Filter, RaysFrom};
+    use super::{Filter, RaysFrom, Target};
     use crate::math::Vec3;
     use crate::shape::{Ray, Shape};
 
@@ -329,18 +329,19 @@ mod packets {
         }
 
         /// The nearest hit in `(t_min, t_max)` along the ray from `from` in direction `dir`
-        /// among the objects `filter` admits, as `(distance, object)`; `shape(i)` is object i's
-        /// shape. `None` when nothing is hit.
+        /// among the objects `filter` admits, as `(distance, object)`; `objects` are the
+        /// scene's objects. `None` when nothing is hit.
         #[inline]
-        pub(crate) fn nearest<'a, const N: usize>(
+        pub(crate) fn nearest<const N: usize, const K: bool>(
             &self,
-            from: &RaysFrom<N>,
+            from: &RaysFrom<N, K>,
             dir: Vec3,
             t_min: f32,
             t_max: f32,
             filter: Filter,
-            shape: impl Fn(usize) -> Option<&'a Shape>,
+            objects: &[impl Target],
         ) -> Option<(f32, usize)> {
+            let shape = |i: usize| objects.get(i).map(Target::shape);
             let ray = &from.ray(dir);
             let (mut t_far, mut best) = (t_max, usize::MAX);
             let mut offer = |t: f32, i: usize| {
@@ -372,17 +373,18 @@ mod packets {
         }
 
         /// True when any object `filter` admits is hit in `(t_min, t_max)` along the ray from
-        /// `from` in direction `dir`.
+        /// `from` in direction `dir`; `objects` are the scene's objects.
         #[inline]
-        pub(crate) fn any<'a, const N: usize>(
+        pub(crate) fn any<const N: usize, const K: bool>(
             &self,
-            from: &RaysFrom<N>,
+            from: &RaysFrom<N, K>,
             dir: Vec3,
             t_min: f32,
             t_max: f32,
             filter: Filter,
-            shape: impl Fn(usize) -> Option<&'a Shape>,
+            objects: &[impl Target],
         ) -> bool {
+            let shape = |i: usize| objects.get(i).map(Target::shape);
             let ray = &from.ray(dir);
             let r = RayLanes::new(ray);
             for p in &self.quads {
@@ -409,115 +411,179 @@ mod packets {
 
 /// Microcontrollers keep no packets (no vector unit, and RAM for one copy of the shapes only):
 /// the queries run a plain loop over the objects, in index order, through the rays' origin terms
-/// where they are kept. The lists of emitters and of other objects let a query that looks at one
-/// kind skip the rest.
+/// where they are kept.
 #[cfg(target_os = "none")]
 mod packets {
-    use heapless::Vec;
+    use super::{Filter, RaysFrom, Target};
+    use crate::math::{SOFT_FLOAT, Vec3};
+    use crate::shape::{Ray, Shape};
 
-    use super::{Filter, RaysFrom};
-    use crate::math::Vec3;
-    use crate::shape::Shape;
-
-    /// Object indices, in increasing order: all of them, the emitters, the others.
+    /// No packets: the span of object indices that holds the emitters (a query for emitters
+    /// looks there only).
     #[derive(Clone, Debug, Default)]
     pub struct Packets<const S: usize> {
-        all: Vec<u16, S>,
-        emitters: Vec<u16, S>,
-        others: Vec<u16, S>,
+        emitters: core::ops::Range<usize>,
     }
 
-    /// Object index of "no object".
-    const NONE: usize = usize::MAX;
-
     impl<const S: usize> Packets<S> {
-        /// Adds object `object`, not (yet) an emitter (there is room: the scene holds at most
-        /// `S` objects).
-        pub fn push(&mut self, object: usize, _shape: &Shape) {
-            let Ok(id) = u16::try_from(object) else { return };
-            let _ = self.all.push(id);
-            let _ = self.others.push(id);
-        }
+        /// Nothing to store.
+        pub fn push(&mut self, _object: usize, _shape: &Shape) {}
 
         /// Marks object `object` as an emitter.
         pub fn set_emitter(&mut self, object: usize) {
-            let Ok(id) = u16::try_from(object) else { return };
-            if let Ok(k) = self.others.binary_search(&id) {
-                self.others.remove(k);
-                let k = self.emitters.binary_search(&id).unwrap_or_else(|k| k);
-                let _ = self.emitters.insert(k, id);
-            }
+            let e = &self.emitters;
+            self.emitters = if e.is_empty() { object..object + 1 } else { e.start.min(object)..e.end.max(object + 1) };
         }
 
-        /// The objects a query with `filter` looks at, and the one or two it skips among them.
+        /// The objects a query with `filter` looks at, among `n`.
         #[inline]
-        fn candidates(&self, filter: Filter) -> (&[u16], usize, usize) {
+        fn span(&self, filter: Filter, n: usize) -> core::ops::Range<usize> {
             match filter {
-                Filter::AllBut(a) => (&self.all, a, NONE),
-                Filter::EmittersBut(a) => (&self.emitters, a, NONE),
-                Filter::OthersBut(a) => (&self.others, a, NONE),
-                Filter::AllButTwo(a, b) => (&self.all, a, b),
+                Filter::EmittersBut(_) => self.emitters.clone(),
+                _ => 0..n,
             }
         }
 
         /// The nearest hit in `(t_min, t_max)` along the ray from `from` in direction `dir`
-        /// among the objects `filter` admits, as `(distance, object)`; `shape(i)` is object i's
-        /// shape. `None` when nothing is hit.
+        /// among the objects `filter` admits, as `(distance, object)`; `objects` are the
+        /// scene's objects. `None` when nothing is hit.
         #[inline]
-        pub(crate) fn nearest<'a>(
+        pub(crate) fn nearest<const K: bool>(
             &self,
-            from: &RaysFrom<S>,
+            from: &RaysFrom<S, K>,
             dir: Vec3,
             t_min: f32,
             t_max: f32,
             filter: Filter,
-            shape: impl Fn(usize) -> Option<&'a Shape>,
+            objects: &[impl Target],
         ) -> Option<(f32, usize)> {
-            self.first_hit(from, dir, t_min, t_max, filter, shape, false)
+            let span = self.span(filter, objects.len());
+            Query { ray: from.ray(dir), t_min, t_max, span }.run::<false, S, K>(from, filter, objects)
         }
 
         /// True when any object `filter` admits is hit in `(t_min, t_max)` along the ray from
-        /// `from` in direction `dir`.
+        /// `from` in direction `dir`; `objects` are the scene's objects.
         #[inline]
-        pub(crate) fn any<'a>(
+        pub(crate) fn any<const K: bool>(
             &self,
-            from: &RaysFrom<S>,
+            from: &RaysFrom<S, K>,
             dir: Vec3,
             t_min: f32,
             t_max: f32,
             filter: Filter,
-            shape: impl Fn(usize) -> Option<&'a Shape>,
+            objects: &[impl Target],
         ) -> bool {
-            self.first_hit(from, dir, t_min, t_max, filter, shape, true).is_some()
+            let span = self.span(filter, objects.len());
+            Query { ray: from.ray(dir), t_min, t_max, span }.run::<true, S, K>(from, filter, objects).is_some()
+        }
+    }
+
+    /// Object index of "no object".
+    const NONE: usize = usize::MAX;
+    /// The roles of object a query looks at: all, emitters only, non-emitters only.
+    const ALL: u8 = 0;
+    const EMITTERS: u8 = 1;
+    const OTHERS: u8 = 2;
+
+    /// A ray, its distance range and the span of objects to look at.
+    struct Query {
+        ray: Ray,
+        t_min: f32,
+        t_max: f32,
+        span: core::ops::Range<usize>,
+    }
+
+    impl Query {
+        /// The query with `filter`, nearest hit or with `ANY` any hit. The four queries of a
+        /// camera sample on a target with an FPU (the camera ray's nearest hit, the shadow
+        /// ray's any hit, the BSDF ray's nearest emitter and any occluder) get a copy of the
+        /// loop each, with the filter built in; the rest share one. (Where f32 operations are
+        /// soft-float calls, the loop's own instructions hardly count: one copy for all.)
+        #[inline]
+        fn run<const ANY: bool, const S: usize, const KEPT: bool>(
+            &self,
+            from: &RaysFrom<S, KEPT>,
+            filter: Filter,
+            objects: &[impl Target],
+        ) -> Option<(f32, usize)> {
+            let (roles, skip) = match filter {
+                Filter::AllBut(a) => (ALL, (a, NONE)),
+                Filter::AllButTwo(a, b) => (ALL, (a, b)),
+                Filter::EmittersBut(a) => (EMITTERS, (a, NONE)),
+                Filter::OthersBut(a) => (OTHERS, (a, NONE)),
+            };
+            match (SOFT_FLOAT, ANY, roles, KEPT) {
+                (false, false, ALL, true) => self.one_kind::<false, ALL, S, KEPT>(from, skip, objects),
+                (false, true, ALL, false) => self.one_kind::<true, ALL, S, KEPT>(from, skip, objects),
+                (false, false, EMITTERS, false) => self.one_kind::<false, EMITTERS, S, KEPT>(from, skip, objects),
+                (false, true, OTHERS, false) => self.one_kind::<true, OTHERS, S, KEPT>(from, skip, objects),
+                _ => self.any_kind::<S, KEPT>(from, skip, roles, ANY, objects),
+            }
         }
 
-        /// The loop of both queries (one copy when every query passes the same `shape`, with
-        /// the ray-shape tests inlined into it): front to back, each test bounded by the nearest
-        /// hit so far; with `any`, the first hit found.
-        #[allow(clippy::too_many_arguments)]
-        fn first_hit<'a>(
+        /// The loop for every kind of query.
+        #[inline(never)]
+        fn any_kind<const S: usize, const KEPT: bool>(
             &self,
-            from: &RaysFrom<S>,
-            dir: Vec3,
-            t_min: f32,
-            t_max: f32,
-            filter: Filter,
-            shape: impl Fn(usize) -> Option<&'a Shape>,
+            from: &RaysFrom<S, KEPT>,
+            skip: (usize, usize),
+            roles: u8,
             any: bool,
+            objects: &[impl Target],
         ) -> Option<(f32, usize)> {
-            let ray = from.ray(dir);
-            let (objects, a, b) = self.candidates(filter);
-            let (mut t_far, mut best) = (t_max, None);
-            for &i in objects {
-                let i = usize::from(i);
-                if i == a || i == b {
-                    continue;
+            self.first_hit(from, skip, roles, any, objects)
+        }
+
+        /// The loop for one kind of query.
+        fn one_kind<const ANY: bool, const ROLES: u8, const S: usize, const KEPT: bool>(
+            &self,
+            from: &RaysFrom<S, KEPT>,
+            skip: (usize, usize),
+            objects: &[impl Target],
+        ) -> Option<(f32, usize)> {
+            self.first_hit(from, skip, ROLES, ANY, objects)
+        }
+
+        /// The loop of the queries: front to back, skipping objects `skip` and those whose role
+        /// `roles` leaves out, each test bounded by the nearest hit so far; with `any`, the
+        /// first hit found. With `KEPT`, through the kept terms.
+        #[inline(always)]
+        fn first_hit<const S: usize, const KEPT: bool>(
+            &self,
+            from: &RaysFrom<S, KEPT>,
+            skip: (usize, usize),
+            roles: u8,
+            any: bool,
+            objects: &[impl Target],
+        ) -> Option<(f32, usize)> {
+            let admits = |i: usize, o: &_| {
+                i != skip.0 && i != skip.1 && (roles == ALL || (roles == EMITTERS) == Target::emits(o))
+            };
+            let (ray, t_min) = (&self.ray, self.t_min);
+            let (mut t_far, mut best) = (self.t_max, None);
+            let first = self.span.start;
+            let objects = objects.get(self.span.clone()).unwrap_or_default();
+            if KEPT {
+                let terms = from.terms().get(self.span.clone()).unwrap_or_default();
+                for (i, (o, terms)) in (first..).zip(objects.iter().zip(terms)) {
+                    if admits(i, o) {
+                        if let Some(t) = o.shape().intersect_from(terms, ray, t_min, t_far) {
+                            (t_far, best) = (t, Some(i));
+                            if any {
+                                break;
+                            }
+                        }
+                    }
                 }
-                let Some(s) = shape(i) else { continue };
-                if let Some(t) = from.intersect(i, s, &ray, t_min, t_far) {
-                    (t_far, best) = (t, Some(i));
-                    if any {
-                        break;
+            } else {
+                for (i, o) in (first..).zip(objects) {
+                    if admits(i, o) {
+                        if let Some(t) = o.shape().intersect(ray, t_min, t_far) {
+                            (t_far, best) = (t, Some(i));
+                            if any {
+                                break;
+                            }
+                        }
                     }
                 }
             }

@@ -9,7 +9,7 @@
 //! technique's weighted contribution and weights are kept apart, so the lecture's weight and
 //! contribution images come from this one function.
 
-use crate::accel::RaysFrom;
+use crate::accel::PointRays;
 use crate::analytic;
 use crate::ids::LightId;
 use crate::light::Light;
@@ -269,7 +269,8 @@ impl<'a> Shading<'a> {
     #[inline]
     fn analytic(&self, light: LightId) -> bool {
         let i = light.index();
-        i < 64 && self.covered & (1 << i) != 0
+        // (`covered` is 0 without the control variate: skip the 64-bit shift then.)
+        self.control_variate && i < 64 && self.covered & (1 << i) != 0
     }
 }
 
@@ -299,7 +300,7 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
     at: &Shading<'_>,
-    from_x: &RaysFrom<S>,
+    from_x: &PointRays<S>,
     sampler: &mut Sampler,
 ) -> Option<Found> {
     let lights = light_sampler(scene, settings);
@@ -333,7 +334,7 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
     at: &Shading<'_>,
-    from_x: &RaysFrom<S>,
+    from_x: &PointRays<S>,
     sampler: &mut Sampler,
     mut found: impl FnMut(Found),
 ) {

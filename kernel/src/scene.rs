@@ -6,7 +6,7 @@
 
 use heapless::Vec;
 
-use crate::accel::{Filter, Packets, RaysFrom};
+use crate::accel::{CameraRays, Filter, Packets, PointRays, RaysFrom, Target};
 use crate::camera::{Camera, CameraDesc, Film};
 use crate::error::{Collection, SceneError};
 use crate::ids::{LightId, MaterialId, ShapeId};
@@ -23,6 +23,17 @@ pub struct Object {
     pub shape: Shape,
     material: MaterialId,
     light: Option<LightId>,
+}
+
+impl Target for Object {
+    #[inline]
+    fn shape(&self) -> &Shape {
+        &self.shape
+    }
+    #[inline]
+    fn emits(&self) -> bool {
+        self.light.is_some()
+    }
 }
 
 /// The first surface a ray meets.
@@ -47,7 +58,7 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     /// The shapes again, four to a packet, for ray queries (hosted targets only).
     packets: Packets<S>,
     /// The camera's rays, with the origin terms of every object on microcontrollers.
-    camera_rays: RaysFrom<S>,
+    camera_rays: CameraRays<S>,
     materials: Vec<Material, M>,
     lights: Vec<Light, L>,
     light_power: Vec<f32, L>,
@@ -63,7 +74,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     pub fn new(camera: CameraDesc, film: Film) -> Result<Self, SceneError> {
         Ok(Self {
             camera: Camera::new(camera, film)?,
-            camera_rays: RaysFrom::camera(camera.origin, core::iter::empty()),
+            camera_rays: CameraRays::new(camera.origin, core::iter::empty()),
             film,
             objects: Vec::new(),
             packets: Packets::default(),
@@ -201,31 +212,24 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
 
     /// [`Scene::intersect`] for the ray from `from` along `dir`.
     #[inline]
-    fn intersect_from(
+    fn intersect_from<const K: bool>(
         &self,
-        from: &RaysFrom<S>,
+        from: &RaysFrom<S, K>,
         dir: Vec3,
         t_min: f32,
         t_max: f32,
         skip: Option<ShapeId>,
     ) -> Option<Hit> {
         let skip = skip.map_or(usize::MAX, ShapeId::index);
-        let (t, i) = self.packets.nearest(from, dir, t_min, t_max, Filter::AllBut(skip), self.shapes())?;
+        let (t, i) = self.packets.nearest(from, dir, t_min, t_max, Filter::AllBut(skip), &self.objects)?;
         self.hit(&from.ray(dir), t, i)
     }
 
     /// The rays from the point `origin` (a shading point's shadow and BSDF rays), for the
     /// queries that take them.
     #[inline]
-    pub(crate) fn rays_from(&self, origin: Vec3) -> RaysFrom<S> {
-        RaysFrom::point(origin, self.objects.iter().map(|o| &o.shape))
-    }
-
-    /// Object i's shape, for the ray queries (one function for all of them: one copy of their
-    /// loop).
-    #[inline]
-    fn shapes<'s>(&'s self) -> impl Fn(usize) -> Option<&'s Shape> + 's {
-        |object| self.objects.get(object).map(|o| &o.shape)
+    pub(crate) fn rays_from(&self, origin: Vec3) -> PointRays<S> {
+        PointRays::new(origin, self.objects.iter().map(|o| &o.shape))
     }
 
     /// The [`Hit`] record for object `object` at distance `t` along `ray`.
@@ -251,19 +255,19 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     #[inline]
     pub(crate) fn emitter_hit_from(
         &self,
-        from: &RaysFrom<S>,
+        from: &PointRays<S>,
         dir: Vec3,
         skip: ShapeId,
     ) -> Option<(Hit, LightId, Rgb)> {
         let skip = skip.index();
         let emitters = Filter::EmittersBut(skip);
-        let (t, best) = self.packets.nearest(from, dir, 0.0, f32::INFINITY, emitters, self.shapes())?;
+        let (t, best) = self.packets.nearest(from, dir, 0.0, f32::INFINITY, emitters, &self.objects)?;
         let hit = self.hit(&from.ray(dir), t, best)?;
         if !hit.front {
             return None; // the back of an emitter: it emits nothing this way
         }
         // Anything else in front of it? (Emitters were already compared above.)
-        if self.packets.any(from, dir, 0.0, t, Filter::OthersBut(skip), self.shapes()) {
+        if self.packets.any(from, dir, 0.0, t, Filter::OthersBut(skip), &self.objects) {
             return None;
         }
         let light = self.objects.get(best)?.light?;
@@ -285,7 +289,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     #[inline]
     pub(crate) fn emitters_along_from(
         &self,
-        from: &RaysFrom<S>,
+        from: &PointRays<S>,
         dir: Vec3,
         skip: ShapeId,
         mut f: impl FnMut(Hit, LightId, Rgb, bool),
@@ -315,14 +319,14 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     #[inline]
     pub(crate) fn unoccluded_from(
         &self,
-        from: &RaysFrom<S>,
+        from: &PointRays<S>,
         dir: Vec3,
         t_max: f32,
         a: ShapeId,
         b: Option<ShapeId>,
     ) -> bool {
         let others = Filter::AllButTwo(a.index(), b.map_or(usize::MAX, ShapeId::index));
-        !self.packets.any(from, dir, 0.0, t_max, others, self.shapes())
+        !self.packets.any(from, dir, 0.0, t_max, others, &self.objects)
     }
 }
 

@@ -272,6 +272,7 @@ impl Shape {
     ///   t0 = c / q <= -0 when c > 0: neither exceeds a t_min >= +0.
     ///
     /// `shape::tests` checks them against the test without them on random rays.
+    #[cfg_attr(not(target_os = "none"), allow(dead_code))]
     #[inline(always)]
     pub(crate) fn intersect_from(
         &self,
