@@ -41,14 +41,21 @@ pub(crate) type CameraRays<const S: usize> = RaysFrom<S, { !ENABLED }>;
 pub(crate) type PointRays<const S: usize> = RaysFrom<S, { SOFT_FLOAT && !ENABLED }>;
 
 impl<const S: usize, const KEPT: bool> RaysFrom<S, KEPT> {
-    /// The rays from `origin` among `shapes` (every object's, in order).
+    /// The rays from `origin`, before any object is added.
     #[inline]
-    pub(crate) fn new<'a>(origin: Vec3, shapes: impl Iterator<Item = &'a Shape>) -> Self {
-        let mut rays = Self { origin, terms: Vec::new() };
+    pub(crate) fn new(origin: Vec3) -> Self {
+        Self { origin, terms: Vec::new() }
+    }
+
+    /// `f` of the rays from `origin` among `shapes` (every object's, in order), built in
+    /// place (returning them would copy the terms).
+    #[inline(always)]
+    pub(crate) fn with<'a, R>(origin: Vec3, shapes: impl Iterator<Item = &'a Shape>, f: impl FnOnce(&Self) -> R) -> R {
+        let mut rays = Self::new(origin);
         for shape in shapes {
             rays.push(shape);
         }
-        rays
+        f(&rays)
     }
 
     /// The same rays with object `shape` added (the scene's next object).
@@ -681,7 +688,7 @@ mod tests {
                     Filter::AllButTwo(skip, 3),
                 ] {
                     let want = nearest_loop(&shapes, &ray, t_min, t_max, f);
-                    let from: RaysFrom<16> = RaysFrom::point(ray.origin, core::iter::empty());
+                    let from: RaysFrom<16, false> = RaysFrom::new(ray.origin);
                     let got = packets.nearest(&from, ray.dir, t_min, t_max, f, shape);
                     assert_eq!(
                         got.map(|(t, i)| (t.to_bits(), i)),

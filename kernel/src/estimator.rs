@@ -163,22 +163,22 @@ pub fn estimate_direct_multi_sample<const S: usize, const L: usize, const M: usi
     let (n_l, n_b) = settings.technique_samples();
     let (n_light, n_bsdf) = (f32::from(n_l), f32::from(n_b));
     // Shadow and BSDF rays all start at x: what their tests need of x alone, computed once.
-    let from_x = scene.rays_from(at.x.point.p);
-
-    // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
-    for _ in 0..n_l {
-        if let Some(s) = light_sample(scene, settings, at, &from_x, sampler) {
-            add_light_sample(&mut by_light, method, &s, n_light, n_bsdf);
+    scene.with_rays_from(at.x.point.p, |from_x| {
+        // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
+        for _ in 0..n_l {
+            if let Some(s) = light_sample(scene, settings, at, from_x, sampler) {
+                add_light_sample(&mut by_light, method, &s, n_light, n_bsdf);
+            }
         }
-    }
 
-    // Technique 2, BSDF sampling: wi ~ p_b, trace; if a light's front side is hit,
-    // w_b L_e f cos / (n_b p_b), with p_l evaluated for the light that was hit.
-    for _ in 0..n_b {
-        bsdf_sample(scene, settings, at, &from_x, sampler, |s| {
-            add_bsdf_sample(&mut by_bsdf, method, &s, n_light, n_bsdf)
-        });
-    }
+        // Technique 2, BSDF sampling: wi ~ p_b, trace; if a light's front side is hit,
+        // w_b L_e f cos / (n_b p_b), with p_l evaluated for the light that was hit.
+        for _ in 0..n_b {
+            bsdf_sample(scene, settings, at, from_x, sampler, |s| {
+                add_bsdf_sample(&mut by_bsdf, method, &s, n_light, n_bsdf)
+            });
+        }
+    });
     (by_light, by_bsdf)
 }
 
@@ -195,17 +195,18 @@ pub fn estimate_direct_one_sample<const S: usize, const L: usize, const M: usize
     let method = settings.method();
     let c_light = settings.c_light();
     let c_bsdf = 1.0 - c_light;
-    let from_x = scene.rays_from(at.x.point.p);
     // The multi-sample formulas with n_i replaced by c_i, for one sample of one technique.
-    if sampler.next_f32() < c_light {
-        if let Some(s) = light_sample(scene, settings, at, &from_x, sampler) {
-            add_light_sample(&mut by_light, method, &s, c_light, c_bsdf);
+    scene.with_rays_from(at.x.point.p, |from_x| {
+        if sampler.next_f32() < c_light {
+            if let Some(s) = light_sample(scene, settings, at, from_x, sampler) {
+                add_light_sample(&mut by_light, method, &s, c_light, c_bsdf);
+            }
+        } else {
+            bsdf_sample(scene, settings, at, from_x, sampler, |s| {
+                add_bsdf_sample(&mut by_bsdf, method, &s, c_light, c_bsdf)
+            });
         }
-    } else {
-        bsdf_sample(scene, settings, at, &from_x, sampler, |s| {
-            add_bsdf_sample(&mut by_bsdf, method, &s, c_light, c_bsdf)
-        });
-    }
+    });
     (by_light, by_bsdf)
 }
 

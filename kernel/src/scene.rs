@@ -74,7 +74,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     pub fn new(camera: CameraDesc, film: Film) -> Result<Self, SceneError> {
         Ok(Self {
             camera: Camera::new(camera, film)?,
-            camera_rays: CameraRays::new(camera.origin, core::iter::empty()),
+            camera_rays: CameraRays::new(camera.origin),
             film,
             objects: Vec::new(),
             packets: Packets::default(),
@@ -207,7 +207,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         if self.camera_rays.start_at(ray.origin) {
             return self.intersect_from(&self.camera_rays, ray.dir, t_min, t_max, skip);
         }
-        self.intersect_from(&self.rays_from(ray.origin), ray.dir, t_min, t_max, skip)
+        self.with_rays_from(ray.origin, |from| self.intersect_from(from, ray.dir, t_min, t_max, skip))
     }
 
     /// [`Scene::intersect`] for the ray from `from` along `dir`.
@@ -225,11 +225,11 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         self.hit(&from.ray(dir), t, i)
     }
 
-    /// The rays from the point `origin` (a shading point's shadow and BSDF rays), for the
-    /// queries that take them.
-    #[inline]
-    pub(crate) fn rays_from(&self, origin: Vec3) -> PointRays<S> {
-        PointRays::new(origin, self.objects.iter().map(|o| &o.shape))
+    /// `f` of the rays from the point `origin` (a shading point's shadow and BSDF rays), for
+    /// the queries that take them.
+    #[inline(always)]
+    pub(crate) fn with_rays_from<R>(&self, origin: Vec3, f: impl FnOnce(&PointRays<S>) -> R) -> R {
+        PointRays::with(origin, self.objects.iter().map(|o| &o.shape), f)
     }
 
     /// The [`Hit`] record for object `object` at distance `t` along `ray`.
@@ -248,7 +248,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// runs up to it, so rays that miss every light test only the emitters.
     #[inline]
     pub fn emitter_hit(&self, ray: &Ray, skip: ShapeId) -> Option<(Hit, LightId, Rgb)> {
-        self.emitter_hit_from(&self.rays_from(ray.origin), ray.dir, skip)
+        self.with_rays_from(ray.origin, |from| self.emitter_hit_from(from, ray.dir, skip))
     }
 
     /// [`Scene::emitter_hit`] for the ray from `from` along `dir`.
@@ -282,7 +282,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// For the control variate, which needs the lights behind occluders too.
     #[inline]
     pub fn emitters_along(&self, ray: &Ray, skip: ShapeId, f: impl FnMut(Hit, LightId, Rgb, bool)) {
-        self.emitters_along_from(&self.rays_from(ray.origin), ray.dir, skip, f);
+        self.with_rays_from(ray.origin, |from| self.emitters_along_from(from, ray.dir, skip, f));
     }
 
     /// [`Scene::emitters_along`] for the ray from `from` along `dir`.
@@ -312,7 +312,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// True when nothing but objects `a` and `b` lies on the ray before `t_max`.
     #[inline]
     pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: ShapeId, b: Option<ShapeId>) -> bool {
-        self.unoccluded_from(&self.rays_from(ray.origin), ray.dir, t_max, a, b)
+        self.with_rays_from(ray.origin, |from| self.unoccluded_from(from, ray.dir, t_max, a, b))
     }
 
     /// [`Scene::unoccluded`] for the ray from `from` along `dir`.
