@@ -339,8 +339,6 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     sampler: &mut Sampler,
     mut found: impl FnMut(Found),
 ) {
-    let lights = light_sampler(scene, settings);
-    let p = at.x.point.p;
     let Some(bs) = at.bsdf.sample(at.wo, sampler.next_2d()) else { return };
     let wi = at.frame.to_world(bs.wi);
     // The weight needs p_b as a function of the direction, the same function the light
@@ -348,13 +346,17 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     // exactly. (`bs.pdf`, from the sampled half vector, can differ from it by rounding at
     // grazing near-mirror angles; the sample's f / p_b, `bs.weight`, uses the exact one.)
     let pdf = || at.bsdf.pdf(at.wo, bs.wi);
+    // The light technique's pdf of the direction to y on `light`: p_l = P(light) p_w(wi | light).
+    let light_pdf = |light, y: &Hit| {
+        let lights = light_sampler(scene, settings);
+        lights.pmf(&at.point, light) * lights.pdf(light, at.x.point.p, &y.point)
+    };
     if !at.control_variate {
         let Some((y, light, radiance)) = scene.emitter_hit_from(from_x, wi, at.x.object) else { return };
         if radiance == Rgb::ZERO {
             return;
         }
-        let pdf = pdf();
-        let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, p, &y.point);
+        let (pdf, pdf_other) = (pdf(), light_pdf(light, &y));
         found(Found { value: bs.weight * radiance, pdf, pdf_other, delta: false });
         return;
     }
@@ -366,8 +368,7 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
             (false, false) | (true, true) => return,
         };
         if radiance != Rgb::ZERO {
-            let pdf_other = lights.pmf(&at.point, light) * lights.pdf(light, p, &y.point);
-            found(Found { value, pdf, pdf_other, delta: false });
+            found(Found { value, pdf, pdf_other: light_pdf(light, &y), delta: false });
         }
     });
 }
