@@ -109,20 +109,18 @@ pub fn trace<const S: usize, const L: usize, const M: usize>(
     t_near: f32,
     sampler: &mut Sampler,
 ) -> Estimate {
-    let mut out = Estimate::default();
     let Some(hit) = scene.intersect(ray, t_near, f32::INFINITY, None) else {
-        return out;
+        return Estimate::default();
     };
     if !hit.front {
-        return out; // one-sided: nothing is emitted or reflected towards the back
+        return Estimate::default(); // one-sided: nothing is emitted or reflected towards the back
     }
-    if let Some((_, Light::Area { radiance, .. })) = scene.emitter(hit.object) {
-        out.emitted = *radiance;
-    }
+    let emitted = match scene.emitter(hit.object) {
+        Some((_, Light::Area { radiance, .. })) => *radiance,
+        _ => Rgb::ZERO,
+    };
     let (light, bsdf) = estimate_direct(scene, settings, &hit, -ray.dir, sampler);
-    out.light = light;
-    out.bsdf = bsdf;
-    out
+    Estimate { emitted, light, bsdf }
 }
 
 /// Direct lighting at `x` towards `wo`, by light sampling and BSDF sampling combined with MIS,
