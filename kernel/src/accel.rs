@@ -50,7 +50,11 @@ impl<const S: usize, const KEPT: bool> RaysFrom<S, KEPT> {
     /// `f` of the rays from `origin` among `shapes` (every object's, in order), built in
     /// place (returning them would copy the terms).
     #[inline(always)]
-    pub(crate) fn with<'a, R>(origin: Vec3, shapes: impl Iterator<Item = &'a Shape>, f: impl FnOnce(&Self) -> R) -> R {
+    pub(crate) fn with<'a, R>(
+        origin: Vec3,
+        shapes: impl Iterator<Item = &'a Shape>,
+        f: impl FnOnce(&Self) -> R,
+    ) -> R {
         let mut rays = Self::new(origin);
         for shape in shapes {
             rays.push(shape);
@@ -419,8 +423,8 @@ mod packets {
 /// Microcontrollers keep no packets (no vector unit, and RAM for one copy of the shapes only):
 /// the queries run a plain loop over the objects, in index order, through the rays' origin terms
 /// where they are kept.
-#[cfg(target_os = "none")]
-mod packets {
+#[cfg(any(target_os = "none", test))]
+mod plain {
     use super::{Filter, RaysFrom, Target};
     use crate::math::{SOFT_FLOAT, Vec3};
     use crate::shape::{Ray, Shape};
@@ -439,7 +443,8 @@ mod packets {
         /// Marks object `object` as an emitter.
         pub fn set_emitter(&mut self, object: usize) {
             let e = &self.emitters;
-            self.emitters = if e.is_empty() { object..object + 1 } else { e.start.min(object)..e.end.max(object + 1) };
+            self.emitters =
+                if e.is_empty() { object..object + 1 } else { e.start.min(object)..e.end.max(object + 1) };
         }
 
         /// The objects a query with `filter` looks at, among `n`.
@@ -481,7 +486,9 @@ mod packets {
             objects: &[impl Target],
         ) -> bool {
             let span = self.span(filter, objects.len());
-            Query { ray: from.ray(dir), t_min, t_max, span }.run::<true, S, K>(from, filter, objects).is_some()
+            Query { ray: from.ray(dir), t_min, t_max, span }
+                .run::<true, S, K>(from, filter, objects)
+                .is_some()
         }
     }
 
@@ -522,7 +529,9 @@ mod packets {
             match (SOFT_FLOAT, ANY, roles, KEPT) {
                 (false, false, ALL, true) => self.one_kind::<false, ALL, S, KEPT>(from, skip, objects),
                 (false, true, ALL, false) => self.one_kind::<true, ALL, S, KEPT>(from, skip, objects),
-                (false, false, EMITTERS, false) => self.one_kind::<false, EMITTERS, S, KEPT>(from, skip, objects),
+                (false, false, EMITTERS, false) => {
+                    self.one_kind::<false, EMITTERS, S, KEPT>(from, skip, objects)
+                }
                 (false, true, OTHERS, false) => self.one_kind::<true, OTHERS, S, KEPT>(from, skip, objects),
                 _ => self.any_kind::<S, KEPT>(from, skip, roles, ANY, objects),
             }
@@ -599,7 +608,10 @@ mod packets {
     }
 }
 
+#[cfg(not(target_os = "none"))]
 pub use packets::Packets;
+#[cfg(target_os = "none")]
+pub use plain::Packets;
 
 #[cfg(test)]
 mod tests {
@@ -607,6 +619,15 @@ mod tests {
     use crate::math::Vec3;
     use crate::rng::Sampler;
     use crate::shape::{Ray, Shape};
+
+    impl Target for (Shape, bool) {
+        fn shape(&self) -> &Shape {
+            &self.0
+        }
+        fn emits(&self) -> bool {
+            self.1
+        }
+    }
 
     /// The plain loop the packets must reproduce: nearest hit, front to back.
     fn nearest_loop(
@@ -656,13 +677,15 @@ mod tests {
         for scene in 0..200 {
             let shapes = random_shapes(&mut rng, 1 + scene % 13);
             let mut packets: Packets<16> = Packets::default();
+            let mut plain: plain::Packets<16> = plain::Packets::default();
             for (i, (s, e)) in shapes.iter().enumerate() {
                 packets.push(i, s);
+                plain.push(i, s);
                 if *e {
                     packets.set_emitter(i);
+                    plain.set_emitter(i);
                 }
             }
-            let shape = |i: usize| shapes.get(i).map(|(s, _)| s);
             for _ in 0..200 {
                 let origin = Vec3::new(
                     rng.next_f32() * 8.0 - 4.0,
@@ -688,14 +711,22 @@ mod tests {
                     Filter::AllButTwo(skip, 3),
                 ] {
                     let want = nearest_loop(&shapes, &ray, t_min, t_max, f);
+                    let bits = |h: Option<(f32, usize)>| h.map(|(t, i)| (t.to_bits(), i));
                     let from: RaysFrom<16, false> = RaysFrom::new(ray.origin);
-                    let got = packets.nearest(&from, ray.dir, t_min, t_max, f, shape);
-                    assert_eq!(
-                        got.map(|(t, i)| (t.to_bits(), i)),
-                        want.map(|(t, i)| (t.to_bits(), i)),
-                        "{ray:?} {f:?}"
-                    );
-                    assert_eq!(packets.any(&from, ray.dir, t_min, t_max, f, shape), want.is_some());
+                    let got = packets.nearest(&from, ray.dir, t_min, t_max, f, &shapes);
+                    assert_eq!(bits(got), bits(want), "{ray:?} {f:?}");
+                    assert_eq!(packets.any(&from, ray.dir, t_min, t_max, f, &shapes), want.is_some());
+                    // The microcontrollers' plain loop, with the full tests and through kept terms.
+                    let got = plain.nearest(&from, ray.dir, t_min, t_max, f, &shapes);
+                    assert_eq!(bits(got), bits(want), "plain: {ray:?} {f:?}");
+                    assert_eq!(plain.any(&from, ray.dir, t_min, t_max, f, &shapes), want.is_some());
+                    let mut kept: RaysFrom<16, true> = RaysFrom::new(ray.origin);
+                    for (s, _) in &shapes {
+                        kept.push(s);
+                    }
+                    let got = plain.nearest(&kept, ray.dir, t_min, t_max, f, &shapes);
+                    assert_eq!(bits(got), bits(want), "kept terms: {ray:?} {f:?}");
+                    assert_eq!(plain.any(&kept, ray.dir, t_min, t_max, f, &shapes), want.is_some());
                     hits += usize::from(want.is_some());
                 }
             }

@@ -549,7 +549,7 @@ mod tests {
                     _ => 0.0,
                 };
                 let t_max =
-                    if rng.next_u32() % 2 == 0 { f32::INFINITY } else { 4.0 * extent * rng.next_f32() };
+                    if rng.next_u32() & 1 == 0 { f32::INFINITY } else { 4.0 * extent * rng.next_f32() };
                 let want = intersect_without_rejects(&shape, &ray, t_min, t_max);
                 let bits = |t: Option<f32>| t.map(f32::to_bits);
                 let got = shape.intersect(&ray, t_min, t_max);
