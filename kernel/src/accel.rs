@@ -120,6 +120,20 @@ impl Filter {
     }
 }
 
+impl Filter {
+    /// Whether the query may look at some object of a group that holds emitters (`emitters`)
+    /// and non-emitters (`others`).
+    #[cfg_attr(target_os = "none", allow(dead_code))]
+    #[inline]
+    fn may_admit(self, emitters: bool, others: bool) -> bool {
+        match self {
+            Filter::EmittersBut(_) => emitters,
+            Filter::OthersBut(_) => others,
+            Filter::AllBut(_) | Filter::AllButTwo(..) => emitters || others,
+        }
+    }
+}
+
 /// What a ray query needs of an object: its shape and whether it emits.
 pub(crate) trait Target {
     /// The object's shape.
@@ -146,8 +160,7 @@ mod packets {
     struct SpherePacket {
         c: [f32x4; 3],
         r2: f32x4,
-        object: [u16; LANES],
-        emitter: [bool; LANES],
+        lanes: Lanes,
     }
 
     #[derive(Clone, Copy, Debug, PartialEq)]
@@ -157,8 +170,52 @@ mod packets {
         p0: [f32x4; 3],
         s_axis: [f32x4; 3],
         t_axis: [f32x4; 3],
+        lanes: Lanes,
+    }
+
+    /// The objects in a packet's lanes.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    struct Lanes {
         object: [u16; LANES],
         emitter: [bool; LANES],
+        /// Some lane holds an emitter; some lane holds another object. A query that looks at
+        /// neither skips the packet.
+        emitters: bool,
+        others: bool,
+    }
+
+    impl Lanes {
+        const EMPTY: Self = Self { object: [EMPTY; LANES], emitter: [false; LANES], emitters: false, others: false };
+
+        /// Lane `k` holds object `id`, not (yet) an emitter.
+        fn set(&mut self, k: usize, id: u16) {
+            if let Some(o) = self.object.get_mut(k) {
+                *o = id;
+                self.others = true;
+            }
+        }
+
+        /// Marks object `object` as an emitter, if it is here.
+        fn set_emitter(&mut self, object: usize) {
+            for (o, e) in self.object.iter().zip(self.emitter.iter_mut()) {
+                *e |= usize::from(*o) == object;
+            }
+            let lanes = || self.object.iter().zip(&self.emitter).filter(|(o, _)| **o != EMPTY);
+            self.emitters = lanes().any(|(_, e)| *e);
+            self.others = lanes().any(|(_, e)| !*e);
+        }
+
+        /// Whether the object in lane `k` (< 4) is one `filter` admits.
+        #[inline(always)]
+        fn admitted(&self, filter: Filter, k: usize) -> bool {
+            filter.admits(self.object[k], self.emitter[k])
+        }
+
+        /// The object in lane `k` (< 4).
+        #[inline(always)]
+        fn object(&self, k: usize) -> usize {
+            usize::from(self.object[k])
+        }
     }
 
     /// Sets lane `k` of the three vectors `v` to the components of `x`.
@@ -200,12 +257,7 @@ mod packets {
     }
 
     impl SpherePacket {
-        const EMPTY: Self = Self {
-            c: [f32x4::ZERO; 3],
-            r2: f32x4::new([-1.0; LANES]),
-            object: [EMPTY; LANES],
-            emitter: [false; LANES],
-        };
+        const EMPTY: Self = Self { c: [f32x4::ZERO; 3], r2: f32x4::new([-1.0; LANES]), lanes: Lanes::EMPTY };
 
         /// Bit k set: the line of the ray may meet lane k's sphere (the discriminant of
         /// `Shape::intersect` is not negative, NaN included, as there).
@@ -226,8 +278,7 @@ mod packets {
             p0: [f32x4::ZERO; 3],
             s_axis: [f32x4::ZERO; 3],
             t_axis: [f32x4::ZERO; 3],
-            object: [EMPTY; LANES],
-            emitter: [false; LANES],
+            lanes: Lanes::EMPTY,
         };
 
         /// Each lane's hit distance as `Shape::intersect` computes it, and a bit mask of the lanes
@@ -301,7 +352,7 @@ mod packets {
                     let Some(p) = self.spheres.last_mut() else { return };
                     set3(&mut p.c, k, c);
                     set(&mut p.r2, k, r * r);
-                    p.object[k] = id;
+                    p.lanes.set(k, id);
                     self.sphere_count += 1;
                 }
                 Shape::Quad(q) => {
@@ -315,7 +366,7 @@ mod packets {
                     set3(&mut p.s_axis, k, s_axis);
                     set3(&mut p.t_axis, k, t_axis);
                     set(&mut p.plane, k, plane);
-                    p.object[k] = id;
+                    p.lanes.set(k, id);
                     self.quad_count += 1;
                 }
             }
@@ -324,25 +375,17 @@ mod packets {
         /// Marks object `object` as an emitter.
         pub fn set_emitter(&mut self, object: usize) {
             for p in self.spheres.iter_mut() {
-                for k in 0..LANES {
-                    if usize::from(p.object[k]) == object {
-                        p.emitter[k] = true;
-                    }
-                }
+                p.lanes.set_emitter(object);
             }
             for p in self.quads.iter_mut() {
-                for k in 0..LANES {
-                    if usize::from(p.object[k]) == object {
-                        p.emitter[k] = true;
-                    }
-                }
+                p.lanes.set_emitter(object);
             }
         }
 
         /// The nearest hit in `(t_min, t_max)` along the ray from `from` in direction `dir`
         /// among the objects `filter` admits, as `(distance, object)`; `objects` are the
         /// scene's objects. `None` when nothing is hit.
-        #[inline]
+        #[inline(always)]
         pub(crate) fn nearest<const N: usize, const K: bool>(
             &self,
             from: &RaysFrom<N, K>,
@@ -362,18 +405,25 @@ mod packets {
                 }
             };
             let r = RayLanes::new(ray);
+            let looked_at = |l: &Lanes| filter.may_admit(l.emitters, l.others);
             for p in &self.quads {
+                if !looked_at(&p.lanes) {
+                    continue;
+                }
                 let (t, hits) = p.distances(&r, t_min, t_max);
                 for k in lanes(hits) {
-                    if filter.admits(p.object[k], p.emitter[k]) {
-                        offer(t[k], usize::from(p.object[k]));
+                    if p.lanes.admitted(filter, k) {
+                        offer(t[k], p.lanes.object(k));
                     }
                 }
             }
             for p in &self.spheres {
+                if !looked_at(&p.lanes) {
+                    continue;
+                }
                 for k in lanes(p.candidates(&r)) {
-                    if filter.admits(p.object[k], p.emitter[k]) {
-                        let i = usize::from(p.object[k]);
+                    if p.lanes.admitted(filter, k) {
+                        let i = p.lanes.object(k);
                         if let Some(t) = shape(i).and_then(|s| s.intersect(ray, t_min, t_max)) {
                             offer(t, i);
                         }
@@ -385,7 +435,7 @@ mod packets {
 
         /// True when any object `filter` admits is hit in `(t_min, t_max)` along the ray from
         /// `from` in direction `dir`; `objects` are the scene's objects.
-        #[inline]
+        #[inline(always)]
         pub(crate) fn any<const N: usize, const K: bool>(
             &self,
             from: &RaysFrom<N, K>,
@@ -398,18 +448,17 @@ mod packets {
             let shape = |i: usize| objects.get(i).map(Target::shape);
             let ray = &from.ray(dir);
             let r = RayLanes::new(ray);
-            for p in &self.quads {
+            let looked_at = |l: &Lanes| filter.may_admit(l.emitters, l.others);
+            for p in self.quads.iter().filter(|p| looked_at(&p.lanes)) {
                 let (_, hits) = p.distances(&r, t_min, t_max);
-                if lanes(hits).any(|k| filter.admits(p.object[k], p.emitter[k])) {
+                if lanes(hits).any(|k| p.lanes.admitted(filter, k)) {
                     return true;
                 }
             }
-            for p in &self.spheres {
+            for p in self.spheres.iter().filter(|p| looked_at(&p.lanes)) {
                 for k in lanes(p.candidates(&r)) {
-                    if filter.admits(p.object[k], p.emitter[k])
-                        && shape(usize::from(p.object[k]))
-                            .and_then(|s| s.intersect(ray, t_min, t_max))
-                            .is_some()
+                    if p.lanes.admitted(filter, k)
+                        && shape(p.lanes.object(k)).and_then(|s| s.intersect(ray, t_min, t_max)).is_some()
                     {
                         return true;
                     }
