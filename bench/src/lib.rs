@@ -21,16 +21,14 @@ pub const WARM_UP: Duration = Duration::from_millis(300);
 /// Criterion measurement time per benchmark.
 pub const MEASUREMENT: Duration = Duration::from_millis(900);
 
-/// The methods of the study (`picomis-sim study`), in the seed's order: the benchmarks time
-/// exactly the list the study charts.
-pub use picomis_sim::study::{StudyMethod, study_methods as methods};
+/// The methods of the study (`picomis-sim study`), from the kernel's one list of them: the
+/// benchmarks time exactly the list the study charts.
+pub use picomis::study::{StudyMethod, study_methods as methods};
 
 /// Settings of one camera sample of `m`: one light and one BSDF sample (as the built-in scenes'
 /// integrator blocks ask), 1 spp.
 pub fn settings(m: &StudyMethod) -> RenderSettings {
-    RenderSettings::new(m.method, 1, 1, 1, 0)
-        .and_then(|s| m.extras.apply(s.with_sphere_sampling(m.spheres)))
-        .expect("study methods have valid settings")
+    m.settings(1, 1, 1, 0).expect("study methods have valid settings")
 }
 
 /// Every built-in scene file, sorted by name (the list of `picomis-builtins`).

@@ -6,7 +6,7 @@
 
 use picomis::RenderSettings;
 
-use crate::app::scene::SceneT;
+use crate::board::scene::SceneT;
 
 /// Renders every pixel's estimate again and logs the digest.
 pub fn report(scene: &SceneT, settings: &RenderSettings) {

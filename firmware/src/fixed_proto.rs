@@ -1,4 +1,4 @@
-//! Fixed-point prototype for issue 11, run by the `fixed-proto` feature (with `measure`): the scene's ray-shape
+//! Fixed-point prototype, run by the `fixed-proto` feature (with `measure`): the scene's ray-shape
 //! intersection (every object, nearest hit: the kernel's `Shape::intersect` loop) in Q16.16
 //! integers against the f32 path, on the camera rays of the film. It prints instructions per
 //! ray-object test for both and how often the nearest object and distance agree. Only a
@@ -9,7 +9,7 @@ use core::hint::black_box;
 use picomis::shape::{Ray, Shape};
 use picomis::{Vec2, Vec3};
 
-use crate::app::scene::SceneT;
+use crate::board::scene::SceneT;
 use crate::clock;
 
 /// Q16.16: 16 integer bits (with sign), 16 fraction bits.

@@ -64,6 +64,8 @@ mod arch;
 #[cfg(all(target_os = "none", target_arch = "riscv32"))]
 #[path = "arch/riscv.rs"]
 mod arch;
+#[cfg(target_os = "none")]
+mod board;
 #[cfg(all(target_os = "none", target_arch = "arm"))]
 mod clock;
 #[cfg(all(target_os = "none", target_arch = "riscv32"))]
@@ -71,6 +73,8 @@ mod clock;
 mod clock;
 #[cfg(all(target_os = "none", feature = "qemu"))]
 mod digest;
+#[cfg(target_os = "none")]
+mod fault;
 #[cfg(all(target_os = "none", feature = "fixed-proto"))]
 mod fixed_proto;
 mod fpcheck;
@@ -83,5 +87,7 @@ mod semihosting;
 mod softfloat;
 #[cfg(target_os = "none")]
 mod stack;
+#[cfg(target_os = "none")]
+mod status;
 #[cfg(all(target_os = "none", not(feature = "rtt"), feature = "qemu"))]
 mod textlog;

@@ -11,7 +11,7 @@ use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
 use picomis::RenderSettings;
 
-use crate::app::{Fb, config, scene::SceneT};
+use crate::board::{Fb, config, scene::SceneT};
 use crate::clock;
 
 use crate::arch::{SPIN_INSTRUCTIONS, spin};

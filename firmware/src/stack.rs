@@ -1,14 +1,22 @@
 //! Peak stack use by stack painting: cortex-m-rt (feature `paint-stack`) fills the stack region
-//! with 0xCCCCCCCC before `main` (on RISC-V, `arch::init` does it at the start of `main`); the
+//! with 0xCCCCCCCC before `main` (on RISC-V, [`init`] does it at the start of `main`); the
 //! lowest word no longer holding the pattern marks the high-water mark.
 
 use core::ptr;
 
 const PAINT: u32 = 0xCCCC_CCCC;
 
-/// Stack region: (bottom, top) addresses.
+/// Stack region: (bottom, top) addresses, from the link script's symbols (`arch`).
 pub fn region() -> (usize, usize) {
-    crate::arch::stack_region()
+    (ptr::addr_of!(crate::arch::STACK_BOTTOM) as usize, ptr::addr_of!(crate::arch::STACK_TOP) as usize)
+}
+
+/// Paints the free stack where the runtime has not (riscv-rt does not paint it before `main`;
+/// cortex-m-rt does): called first thing in `main`, so that [`peak`] measures from there.
+pub fn init() {
+    if cfg!(target_arch = "riscv32") {
+        repaint();
+    }
 }
 
 /// Bytes of stack used so far (high-water mark), and the stack region's size.

@@ -99,6 +99,19 @@ pub struct SceneFile {
 /// Largest scene file read, in bytes (scenes are small; this bounds memory on hostile input).
 pub const MAX_FILE_BYTES: u64 = 4 << 20;
 
+/// The file at `path` as it is named in errors, and its text: at most [`MAX_FILE_BYTES`] long,
+/// UTF-8 (the scene file and the Mitsuba XML file readers).
+pub(crate) fn read_bounded(path: &Path) -> Result<(String, String), LoadError> {
+    let file = path.display().to_string();
+    let err = |reason: String| LoadError { file: file.clone(), entry: "file".into(), reason };
+    let meta = std::fs::metadata(path).map_err(|e| err(e.to_string()))?;
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(err(format!("larger than {MAX_FILE_BYTES} bytes")));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+    Ok((file, text))
+}
+
 impl SceneFile {
     /// Parses and validates a scene; `file` names it in errors.
     pub fn parse(text: &str, file: &str) -> Result<Self, LoadError> {
@@ -107,13 +120,7 @@ impl SceneFile {
 
     /// Reads, parses and validates a scene file.
     pub fn load(path: &Path) -> Result<Self, LoadError> {
-        let file = path.display().to_string();
-        let err = |reason: String| LoadError { file: file.clone(), entry: "file".into(), reason };
-        let meta = std::fs::metadata(path).map_err(|e| err(e.to_string()))?;
-        if meta.len() > MAX_FILE_BYTES {
-            return Err(err(format!("larger than {MAX_FILE_BYTES} bytes")));
-        }
-        let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+        let (file, text) = read_bounded(path)?;
         Self::parse(&text, &file)
     }
 

@@ -30,7 +30,7 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene to an image (.png, .exr, .pfm or .rgb565).
     Render(RenderArgs),
-    /// Draw the seed's MIS figure: each technique, average, balance, power, maximum, weights and
+    /// Draw the lecture's MIS figure: each technique, average, balance, power, maximum, weights and
     /// contributions, as one labelled PNG.
     Figure(FigureArgs),
     /// List the built-in scenes.
@@ -52,7 +52,7 @@ pub enum Command {
 /// How sphere lights are sampled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum SphereSamplingArg {
-    /// Uniformly by area (the seed's formulation).
+    /// Uniformly by area (the lecture's formulation).
     Area,
     /// Uniformly in the cone the sphere subtends.
     Cone,
@@ -181,7 +181,7 @@ pub struct FigureArgs {
     pub out: Option<PathBuf>,
 }
 
-/// The options beyond the lecture (issue 14), for commands that apply them to several renders.
+/// The options beyond the lecture, for commands that apply them to several renders.
 #[derive(Debug, Clone, clap::Args)]
 pub struct ExtrasArgs {
     /// MIS model: multi-sample or one-sample.
@@ -200,14 +200,14 @@ pub struct ExtrasArgs {
 
 impl ExtrasArgs {
     /// The study's form of these options (validated: `c_light` in [0, 1]).
-    pub fn extras(&self) -> Result<crate::study::Extras, SimError> {
+    pub fn extras(&self) -> Result<picomis::study::Extras, SimError> {
         let name = match self.mis_model {
             MisModelArg::Multi => "multi",
             MisModelArg::One => "one",
         };
         let model = parse_mis_model(name, self.c_light)
             .map_err(|e| SimError::Usage(format!("--mis-model {name} --c-light {}: {e}", self.c_light)))?;
-        Ok(crate::study::Extras {
+        Ok(picomis::study::Extras {
             model,
             quads: match self.quad_sampling {
                 QuadSamplingArg::Area => QuadSampling::Area,
@@ -217,7 +217,7 @@ impl ExtrasArgs {
                 OnOff::On => ControlVariate::On,
                 OnOff::Off => ControlVariate::Off,
             },
-            ..crate::study::Extras::default()
+            ..picomis::study::Extras::default()
         })
     }
 }

@@ -90,7 +90,7 @@ pub fn figure_settings(
     loaded: &Loaded,
     spp: u32,
     seed: u32,
-    extras: &crate::study::Extras,
+    extras: &picomis::study::Extras,
 ) -> Result<Vec<RenderSettings>, SimError> {
     let (n_light, n_bsdf) = loaded.file.default_samples();
     methods()?
@@ -108,7 +108,7 @@ pub fn render_figure(
     loaded: &Loaded,
     spp: u32,
     seed: u32,
-    extras: &crate::study::Extras,
+    extras: &picomis::study::Extras,
 ) -> Result<(Canvas, Batch), SimError> {
     let settings = figure_settings(loaded, spp, seed, extras)?;
     let film = loaded.file.film();
@@ -131,7 +131,7 @@ pub fn render_figure(
             )
         },
     ];
-    if *extras != crate::study::Extras::default() {
+    if *extras != picomis::study::Extras::default() {
         caption.push(format!(
             "Every render: MIS model {:?}, quads sampled by {:?}, control variate {:?}.",
             extras.model, extras.quads, extras.control_variate

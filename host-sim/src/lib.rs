@@ -1,8 +1,8 @@
 //! # picomis-sim
 //!
 //! The host side of picomis: renders `picomis-scene/1` files (or the built-in scenes) with the
-//! `no_std` kernel on all cores, writes PNG, EXR, PFM or raw RGB565 images, and draws the seed
-//! lecture's MIS figure. The binary `picomis-sim` is a thin command line over this library.
+//! `no_std` kernel on all cores, writes PNG, EXR, PFM or raw RGB565 images, and draws the
+//! lecture's MIS figure (Veach and Guibas 1995). The binary `picomis-sim` is a thin command line over this library.
 //!
 //! Every pixel is `picomis::render_pixel`, whose random numbers depend only on the seed, the
 //! pixel and the camera sample: images do not depend on the number of threads.
@@ -13,7 +13,7 @@
 //! picomis-sim render box_quad --spp 256 --mis balance --out box.exr
 //! picomis-sim render my_scene.json --width 640 --light-samples 2 --seed 7 --out my.pfm
 //! picomis-sim render lambert_sphere --out fb.rgb565    # bytes of an RGB565 LE framebuffer
-//! picomis-sim figure --spp 32                          # the seed's MIS figure -> veach_mis_figure.png
+//! picomis-sim figure --spp 32                          # the lecture's MIS figure -> veach_mis_figure.png
 //! picomis-sim serve                                    # the browser page (web/) at http://127.0.0.1:8000/
 //! ```
 //!

@@ -20,13 +20,13 @@ pub struct Estimates {
     pub pixels: Vec<Estimate>,
 }
 
-/// A progress bar on stderr: hidden when stderr is not a terminal (indicatif's rule) or when
-/// the `CI` environment variable is set.
-pub fn progress_bar(rows: u64, message: &str) -> ProgressBar {
+/// A progress bar of `steps` steps (rows times spp, for [`render_estimates`]) on stderr: hidden
+/// when stderr is not a terminal (indicatif's rule) or when the `CI` environment variable is set.
+pub fn progress_bar(steps: u64, message: &str) -> ProgressBar {
     if std::env::var_os("CI").is_some() {
         return ProgressBar::hidden();
     }
-    let bar = ProgressBar::with_draw_target(Some(rows), ProgressDrawTarget::stderr());
+    let bar = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::stderr());
     if let Ok(style) =
         ProgressStyle::with_template("{msg} [{bar:40}] {percent:>3}% {elapsed_precise} (eta {eta})")
     {
@@ -36,7 +36,8 @@ pub fn progress_bar(rows: u64, message: &str) -> ProgressBar {
     bar
 }
 
-/// Renders `scene` with `settings`, advancing `progress` by one per row.
+/// Renders `scene` with `settings` on all cores, advancing `progress` by `spp` per row (so one
+/// bar can follow renders of different spp).
 pub fn render_estimates<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
@@ -49,7 +50,7 @@ pub fn render_estimates<const S: usize, const L: usize, const M: usize>(
         for (x, px) in (0..width).zip(row.iter_mut()) {
             *px = render_pixel(scene, settings, x, y);
         }
-        progress.inc(1);
+        progress.inc(u64::from(settings.spp()));
     });
     Estimates { width, height, pixels }
 }
@@ -77,8 +78,8 @@ impl SceneVisitor for RenderBatch<'_> {
     type Output = Batch;
     fn visit<const S: usize, const L: usize, const M: usize>(self, scene: Scene<S, L, M>) -> Batch {
         let film = scene.film();
-        let rows = u64::from(film.height()) * self.settings.len() as u64;
-        let bar = progress_bar(rows, self.message);
+        let steps = self.settings.iter().map(|s| u64::from(film.height()) * u64::from(s.spp())).sum();
+        let bar = progress_bar(steps, self.message);
         let start = Instant::now();
         let images = self.settings.iter().map(|s| render_estimates(&scene, s, &bar)).collect();
         let elapsed = start.elapsed();

@@ -74,7 +74,7 @@ pub struct ViewArgs {
 }
 
 /// What the window shows: the image, or one technique's weighted contribution or mean MIS
-/// weight (the seed lecture's figures, coloured as in `picomis-sim figure`).
+/// weight (the lecture's figures, coloured as in `picomis-sim figure`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum View {
     /// The rendered image.

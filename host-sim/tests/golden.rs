@@ -3,7 +3,7 @@
 //! `lambert_sphere` is a Lambertian plane (albedo rho) under one sphere light (radius r,
 //! radiance L, center at height h above the plane) that is fully above every plane point's
 //! horizon, so the reflected radiance at a plane point at distance d from the center is, in
-//! closed form (MIS-NOTES section 4), L_out = (rho / pi) * pi L (r/d)^2 cos(theta) = rho L r^2 h / d^3.
+//! closed form (`picomis_tests::sphere_irradiance`, tests/src/closed_forms.rs), L_out = (rho / pi) * pi L (r/d)^2 cos(theta) = rho L r^2 h / d^3.
 //!
 //! The golden is `tests/data/lambert_sphere_32x24_64spp_seed0.pfm`, rendered by this binary. The
 //! comparison is bit-exact: the kernel does all math in f32 through `libm` (software, no platform

@@ -1,7 +1,6 @@
 //! The Veach scene rendered by picomis converges to an independent renderer's image: Mitsuba 3.9.1
 //! (`direct` integrator, power heuristic, ~37,000 spp, independent sampler, box filter),
-//! `tests/data/veach_mis.ref.exr`, a copy of `shared/scenes/veach_mis.ref.exr` (see
-//! scenes/FORMAT.md).
+//! `tests/data/veach_mis.ref.exr` (see scenes/FORMAT.md).
 //!
 //! Both images carry Monte Carlo noise, so the comparison is statistical, per RGB channel, on
 //! 16x16-pixel blocks:

@@ -148,19 +148,26 @@ impl Camera {
     }
 }
 
+/// The unit tests' camera: on the +z axis, 5 units from the origin, looking at it, `fov_deg`
+/// vertically.
+#[cfg(test)]
+pub(crate) fn test_desc(fov_deg: f32) -> CameraDesc {
+    CameraDesc {
+        origin: Vec3::new(0.0, 0.0, 5.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_deg,
+        fov_axis: FovAxis::Y,
+        near_clip: 0.0,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn desc() -> CameraDesc {
-        CameraDesc {
-            origin: Vec3::new(0.0, 0.0, 5.0),
-            target: Vec3::ZERO,
-            up: Vec3::Y,
-            fov_deg: 90.0,
-            fov_axis: FovAxis::Y,
-            near_clip: 0.0,
-        }
+        test_desc(90.0)
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! False colour for the seed's MIS weight images: a weight in [0, 1] as a viridis colour, and the
+//! False colour for the lecture's MIS weight images: a weight in [0, 1] as a viridis colour, and the
 //! grey of pixels where no sample of a technique found light. One definition for every place
 //! that shows weights (the desktop figure, the study's charts, the browser page, a display).
 

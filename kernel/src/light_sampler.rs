@@ -329,18 +329,11 @@ fn sample_sphere_cone(center: Vec3, radius: f32, x: Vec3, u: Vec2) -> Option<Lig
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera::{CameraDesc, Film, FovAxis};
+    use crate::camera::{Film, test_desc};
     use crate::material::Material;
 
     fn scene() -> Scene<2, 3, 1> {
-        let cam = CameraDesc {
-            origin: Vec3::new(0.0, 0.0, 5.0),
-            target: Vec3::ZERO,
-            up: Vec3::Y,
-            fov_deg: 40.0,
-            fov_axis: FovAxis::Y,
-            near_clip: 0.0,
-        };
+        let cam = test_desc(40.0);
         let mut s: Scene<2, 3, 1> = Scene::new(cam, Film::new(4, 4).unwrap()).unwrap();
         let m = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
         let a = s.add_shape(Shape::sphere(Vec3::ZERO, 1.0).unwrap(), m).unwrap();

@@ -13,7 +13,7 @@ use crate::error::{Field, SceneError};
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum MisModel {
-    /// Every technique draws its own samples (the seed lecture's model).
+    /// Every technique draws its own samples (the lecture's model).
     #[default]
     Multi,
     /// One sample per camera sample: the light technique with probability `c_light`, else the

@@ -333,18 +333,10 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera::FovAxis;
     use crate::error::Field;
 
     fn cam() -> CameraDesc {
-        CameraDesc {
-            origin: Vec3::new(0.0, 0.0, 5.0),
-            target: Vec3::ZERO,
-            up: Vec3::Y,
-            fov_deg: 40.0,
-            fov_axis: FovAxis::Y,
-            near_clip: 0.0,
-        }
+        crate::camera::test_desc(40.0)
     }
 
     #[test]

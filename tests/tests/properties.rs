@@ -1,4 +1,4 @@
-//! Property tests of the kernel on random valid scenes (issue 6), with proptest on a fixed seed
+//! Property tests of the kernel on random valid scenes, with proptest on a fixed seed
 //! and ChaCha (the same cases on every run, no failure files).
 //!
 //! A random scene holds a ground (a floor up to 2000 across or a sphere of radius up to 50 under

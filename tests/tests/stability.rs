@@ -1,4 +1,4 @@
-//! Failure cases of direct lighting (issue 6): the configurations where one technique breaks
+//! Failure cases of direct lighting: the configurations where one technique breaks
 //! down, run through every method, with fixed seeds and z-score tolerances.
 //!
 //! Methods (the table's columns): BSDF sampling only; light sampling only with sphere lights
@@ -477,7 +477,7 @@ fn veach_bound(n: &[f64]) -> f64 {
 /// Veach's bound for one light and one BSDF sample: 1/2.
 const VEACH_BOUND: f64 = 0.5;
 
-/// Veach's bound (MIS-NOTES section 1) as a one-sided z-test: V[F_balance] - V[F_other] <= c mu^2
+/// Veach's bound (Veach and Guibas 1995, theorem 1; Veach 1997, theorem 9.2) as a one-sided z-test: V[F_balance] - V[F_other] <= c mu^2
 /// for any other weighting with the same sample counts, from the two runs' sample variances.
 /// The runs are independent, so the variance of the difference is the sum of the variances of
 /// the two sample variances, each from its fourth moment ([`Stats::variance_stderr`]). Fails when

@@ -1,7 +1,6 @@
 //! Cortex-M (thumbv7em, thumbv6m): the entry point comes from cortex-m-rt (which also paints the
-//! stack before `main`), the clock is SysTick (clock.rs), semihosting is `bkpt 0xab`.
-
-use cortex_m_rt::{ExceptionFrame, exception};
+//! stack before `main`), the clock is SysTick (clock.rs), semihosting is `bkpt 0xab`; the
+//! HardFault handler is in fault.rs.
 
 /// Starts the clock (SysTick).
 pub fn init() {
@@ -36,14 +35,11 @@ pub fn semihosting_call(op: usize, arg: usize) -> usize {
 
 unsafe extern "C" {
     /// Top of the stack (initial SP), from cortex-m-rt's link.x.
-    static _stack_start: u32;
+    #[link_name = "_stack_start"]
+    pub static STACK_TOP: u32;
     /// Lowest address the stack may reach (end of static RAM), from link.x.
-    static _stack_end: u32;
-}
-
-/// Stack region: (bottom, top) addresses.
-pub fn stack_region() -> (usize, usize) {
-    (core::ptr::addr_of!(_stack_end) as usize, core::ptr::addr_of!(_stack_start) as usize)
+    #[link_name = "_stack_end"]
+    pub static STACK_BOTTOM: u32;
 }
 
 /// The current stack pointer.
@@ -68,9 +64,4 @@ pub fn spin(n: u32) {
     unsafe {
         core::arch::asm!("2:", "subs r0, #1", "bne 2b", inout("r0") n => _, options(nomem, nostack));
     }
-}
-
-#[exception]
-unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
-    crate::app::fault(frame.pc())
 }

@@ -1,11 +1,10 @@
 //! RISC-V (RV32IMC; QEMU `sifive_e`, an FE310 like the HiFive1): the entry point comes from
 //! riscv-rt, the clock is the `minstret` instruction counter (riscv_clock.rs), semihosting is the
-//! `slli; ebreak; srai` sequence, and the stack is painted here at the start of `main`.
+//! `slli; ebreak; srai` sequence; riscv-rt does not paint the stack (stack.rs does, at the start
+//! of `main`); the exception handler is in fault.rs.
 
-/// Paints the free stack for [`crate::stack::peak`] (riscv-rt does not paint it before `main`).
-pub fn init() {
-    crate::stack::repaint();
-}
+/// Nothing to start: the clock is the `minstret` counter.
+pub fn init() {}
 
 /// Sleeps forever.
 #[cfg(not(feature = "qemu"))]
@@ -48,14 +47,11 @@ pub fn semihosting_call(op: usize, arg: usize) -> usize {
 
 unsafe extern "C" {
     /// Top of the stack, from riscv-rt's link.x.
-    static _stack_start: u32;
+    #[link_name = "_stack_start"]
+    pub static STACK_TOP: u32;
     /// Lowest address the stack may reach (end of static RAM and heap), from link.x.
-    static __estack: u32;
-}
-
-/// Stack region: (bottom, top) addresses.
-pub fn stack_region() -> (usize, usize) {
-    (core::ptr::addr_of!(__estack) as usize, core::ptr::addr_of!(_stack_start) as usize)
+    #[link_name = "__estack"]
+    pub static STACK_BOTTOM: u32;
 }
 
 /// The current stack pointer.
@@ -83,10 +79,4 @@ pub fn spin(n: u32) {
     unsafe {
         core::arch::asm!("2:", "addi {0}, {0}, -1", "bnez {0}, 2b", inout(reg) n => _, options(nomem, nostack));
     }
-}
-
-/// Exceptions (illegal instruction, access faults...): report the faulting pc like a HardFault.
-#[unsafe(export_name = "ExceptionHandler")]
-fn exception_handler(_frame: &riscv_rt::TrapFrame) -> ! {
-    crate::app::fault(riscv::register::mepc::read() as u32)
 }

@@ -21,7 +21,7 @@ mod xml;
 
 pub use export::Export;
 
-use crate::{LoadError, MAX_FILE_BYTES, SceneFile};
+use crate::{LoadError, SceneFile};
 
 /// Converts Mitsuba 3 XML `text` into the text of a `picomis-scene/1` file for a scene called
 /// `name`. `file` names the input in errors (`file:line: <element>: reason`). The result is
@@ -49,13 +49,7 @@ fn one_line(e: LoadError) -> LoadError {
 
 /// Reads and converts a Mitsuba 3 XML file (see [`import`]); the scene is named after the file.
 pub fn import_file(path: &std::path::Path) -> Result<String, LoadError> {
-    let file = path.display().to_string();
-    let err = |reason: String| LoadError { file: file.clone(), entry: "file".into(), reason };
-    let meta = std::fs::metadata(path).map_err(|e| err(e.to_string()))?;
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(err(format!("larger than {MAX_FILE_BYTES} bytes")));
-    }
-    let text = std::fs::read_to_string(path).map_err(|e| err(e.to_string()))?;
+    let (file, text) = crate::read_bounded(path)?;
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
     import(&text, &file, &name)
 }

@@ -3,9 +3,10 @@
 //! the reference.
 
 use embedded_graphics_core::pixelcolor::RgbColor;
+use picomis::study::study_methods;
 use picomis::{Rgb, tone_map};
 
-use super::{SceneStudy, study_methods};
+use super::results::SceneStudy;
 use crate::text::{Canvas, draw_text};
 
 const BACKGROUND: [u8; 3] = [255, 255, 255];

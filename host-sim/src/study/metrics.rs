@@ -1,4 +1,4 @@
-//! Error of an image against a reference (MIS-NOTES section 6): the mean squared error and the
+//! Error of an image against a reference: the mean squared error and the
 //! relative MSE, the mean of (I - R)^2 / (R^2 + 0.01), both over pixels and RGB channels, summed
 //! in f64.
 

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 
 use picomis::{Estimate, Heuristic, Method, RenderSettings, Rgb, Scene, SphereSampling, render_pixel};
 
+use super::measure::{self, timed};
 use super::metrics::{ErrorStats, REL_EPSILON, downsample};
 use crate::SimError;
 use crate::output::{Format, Image, encode, read_exr, write_atomic};
@@ -205,7 +206,7 @@ pub fn get<const S: usize, const L: usize, const M: usize>(
     let mut halves: Vec<Vec<Estimate>> = Vec::new();
     let mut seconds = 0.0;
     for seed in SEEDS {
-        let (img, s) = super::render(scene, &balance(samples, half, seed)?, &bar);
+        let (img, s) = timed(scene, &balance(samples, half, seed)?, &bar);
         halves.push(img);
         seconds += s;
     }
@@ -222,8 +223,7 @@ pub fn get<const S: usize, const L: usize, const M: usize>(
     // The variance of the mean of two halves is about (A - B)^2 / 4 per value.
     let (mut mse, mut rel) = (0.0, 0.0);
     for ((ea, eb), r) in a.iter().zip(b).zip(&reflected) {
-        let (va, vb) =
-            (ea.light.contribution + ea.bsdf.contribution, eb.light.contribution + eb.bsdf.contribution);
+        let (va, vb) = (measure::reflected(ea), measure::reflected(eb));
         for (x, y, rv) in [(va.x, vb.x, r.x), (va.y, vb.y, r.y), (va.z, vb.z, r.z)] {
             let d = f64::from(x) - f64::from(y);
             let var = d * d / 4.0;

@@ -12,20 +12,21 @@
 //! so such a render is exactly the part of the full render that this light contributes; without
 //! the isolation, rare hits of the small bright lights by BSDF samples would swamp every region.
 
+use picomis::study::StudyMethod;
 use picomis::{Light, Material, MaterialId, Ray, Rgb, Scene, SceneError, ShapeId, Vec2, Vec3};
 use rayon::prelude::*;
 
+use super::measure::{reflected, settings};
 use super::metrics::channel_errors;
 use super::reference::{self, Reference};
-use super::{StudyMethod, render, settings};
 use crate::SimError;
-use crate::render::progress_bar;
+use crate::render::{progress_bar, render_estimates};
 use crate::scenes::Loaded;
 
 /// Relative MSE of one region in a render of its light alone.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RegionRecord {
-    /// Index in [`super::study_methods`].
+    /// Index in [`picomis::study::study_methods`].
     pub method: usize,
     /// Seed.
     pub seed: u32,
@@ -268,9 +269,8 @@ pub fn study<const S: usize, const L: usize, const M: usize>(
         let bar = progress_bar(renders * h, &name);
         for &seed in seeds {
             for (mi, m) in methods.iter().enumerate() {
-                let (img, _) = render(&alone, &settings(m, samples, spp, seed)?, &bar);
-                let values: Vec<Rgb> =
-                    img.par_iter().map(|e| e.light.contribution + e.bsdf.contribution).collect();
+                let img = render_estimates(&alone, &settings(m, samples, spp, seed)?, &bar).pixels;
+                let values: Vec<Rgb> = img.par_iter().map(reflected).collect();
                 let errors = map.rel_mse(&values, &r.reflected);
                 for (k, _) in map.regions.iter().enumerate().filter(|(_, g)| g.light == l) {
                     out.records.push(RegionRecord { method: mi, seed, region: k, rel_mse: errors[k] });

@@ -1,0 +1,136 @@
+//! What the study measures on one scene ([`SceneStudy`]: the ladder's [`Record`]s, the
+//! [`EqualTime`] renders, the reference and the regions), and the questions the reports ask of
+//! it: which method is which, the rungs, means over seeds, the cost per sample.
+
+use picomis::study::{Extras, study_methods};
+use picomis::{Heuristic, Method, Rgb, SphereSampling};
+
+use super::metrics::ErrorStats;
+use super::reference::Reference;
+use super::regions::{RegionMap, RegionStudy};
+
+/// One timed render of the ladder.
+#[derive(Clone, Debug)]
+pub struct Record {
+    /// Index in [`study_methods`].
+    pub method: usize,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Seed.
+    pub seed: u32,
+    /// Wall-clock seconds on all cores.
+    pub seconds: f64,
+    /// Error against the study's reference.
+    pub error: ErrorStats,
+    /// Error of the full radiance against the Mitsuba 3 reference (Veach scene).
+    pub mitsuba: Option<ErrorStats>,
+}
+
+/// One render of the equal-time comparison.
+#[derive(Clone, Debug)]
+pub struct EqualTime {
+    /// Index in [`study_methods`].
+    pub method: usize,
+    /// Samples per pixel chosen from the method's measured cost.
+    pub spp: u32,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+    /// Error against the study's reference.
+    pub error: ErrorStats,
+    /// The image (full radiance).
+    pub image: Vec<Rgb>,
+}
+
+/// Everything measured on one scene.
+#[derive(Clone, Debug)]
+pub struct SceneStudy {
+    /// Scene name.
+    pub name: String,
+    /// Study film.
+    pub width: u32,
+    /// Study film.
+    pub height: u32,
+    /// Ladder renders.
+    pub records: Vec<Record>,
+    /// Equal-time renders.
+    pub equal_time: Vec<EqualTime>,
+    /// The time budget of the equal-time renders.
+    pub budget: f64,
+    /// The reference.
+    pub reference: Reference,
+    /// Plate x light regions, when the scene has them (the Veach scene).
+    pub regions: Option<RegionMap>,
+    /// Errors per region, each light rendered alone at the top rung.
+    pub region_study: RegionStudy,
+    /// Why there is no Mitsuba comparison (Veach scene only), if there is none.
+    pub mitsuba_note: Option<String>,
+    /// Error of the reference's full radiance against the Mitsuba 3 reference (Veach scene).
+    pub reference_vs_mitsuba: Option<ErrorStats>,
+}
+
+/// Index in [`study_methods`] of `method` with sphere lights sampled by `spheres`, the default
+/// sample stream and uniform light selection (0 if absent).
+pub fn index_of(method: Method, spheres: SphereSampling) -> usize {
+    study_methods()
+        .iter()
+        .position(|m| m.method == method && m.spheres == spheres && m.extras == Extras::default())
+        .unwrap_or(0)
+}
+
+/// Index of the balance heuristic in [`study_methods`] (the baseline of every ratio).
+pub fn balance_index() -> usize {
+    index_of(Method::Mis(Heuristic::Balance), SphereSampling::Cone)
+}
+
+/// Seconds per sample per pixel of method `mi`: the fastest render of its two top rungs, per spp.
+/// Taking the fastest of several seeds' renders (methods interleaved) keeps other processes on
+/// the machine from inflating one method's cost more than another's.
+pub fn cost_per_spp(records: &[Record], mi: usize, top: u32) -> f64 {
+    records
+        .iter()
+        .filter(|r| r.method == mi && 2 * r.spp >= top)
+        .map(|r| r.seconds / f64::from(r.spp))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The rungs (spp) of the ladder, in order.
+pub fn rungs(records: &[Record]) -> Vec<u32> {
+    let mut v: Vec<u32> = records.iter().map(|r| r.spp).collect();
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+/// The top rung of the ladder (1 for none).
+pub fn top_rung(records: &[Record]) -> u32 {
+    rungs(records).last().copied().unwrap_or(1)
+}
+
+/// Mean, min and max of `f` over the seeds of method `mi` at `spp`.
+pub fn over_seeds(records: &[Record], mi: usize, spp: u32, f: impl Fn(&Record) -> f64) -> (f64, f64, f64) {
+    let vals: Vec<f64> = records.iter().filter(|r| r.method == mi && r.spp == spp).map(f).collect();
+    let lo = vals.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (mean(vals.into_iter()), lo, hi)
+}
+
+/// Mean of the values (NaN for none).
+pub fn mean(values: impl Iterator<Item = f64>) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for v in values {
+        sum += v;
+        n += 1;
+    }
+    sum / n as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_baseline_is_balance() {
+        assert_eq!(study_methods()[balance_index()].label, "balance");
+        assert_eq!(study_methods()[index_of(Method::LightOnly, SphereSampling::Area)].label, "light_area");
+    }
+}
