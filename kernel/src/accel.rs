@@ -185,7 +185,8 @@ mod packets {
     }
 
     impl Lanes {
-        const EMPTY: Self = Self { object: [EMPTY; LANES], emitter: [false; LANES], emitters: false, others: false };
+        const EMPTY: Self =
+            Self { object: [EMPTY; LANES], emitter: [false; LANES], emitters: false, others: false };
 
         /// Lane `k` holds object `id`, not (yet) an emitter.
         fn set(&mut self, k: usize, id: u16) {
@@ -547,6 +548,8 @@ mod plain {
     const ALL: u8 = 0;
     const EMITTERS: u8 = 1;
     const OTHERS: u8 = 2;
+    /// A parameter of [`Query::scan`] decided at run time.
+    const RUNTIME: u8 = 3;
 
     /// A ray, its distance range and the span of objects to look at.
     struct Query {
@@ -576,44 +579,24 @@ mod plain {
                 Filter::OthersBut(a) => (OTHERS, (a, NONE)),
             };
             match (SOFT_FLOAT, ANY, roles, KEPT) {
-                (false, false, ALL, true) => self.one_kind::<false, ALL, S, KEPT>(from, skip, objects),
-                (false, true, ALL, false) => self.one_kind::<true, ALL, S, KEPT>(from, skip, objects),
+                (false, false, ALL, true) => self.scan::<0, ALL, S, KEPT>(from, skip, roles, ANY, objects),
+                (false, true, ALL, false) => self.scan::<1, ALL, S, KEPT>(from, skip, roles, ANY, objects),
                 (false, false, EMITTERS, false) => {
-                    self.one_kind::<false, EMITTERS, S, KEPT>(from, skip, objects)
+                    self.scan::<0, EMITTERS, S, KEPT>(from, skip, roles, ANY, objects)
                 }
-                (false, true, OTHERS, false) => self.one_kind::<true, OTHERS, S, KEPT>(from, skip, objects),
-                _ => self.any_kind::<S, KEPT>(from, skip, roles, ANY, objects),
+                (false, true, OTHERS, false) => {
+                    self.scan::<1, OTHERS, S, KEPT>(from, skip, roles, ANY, objects)
+                }
+                _ => self.scan::<RUNTIME, RUNTIME, S, KEPT>(from, skip, roles, ANY, objects),
             }
-        }
-
-        /// The loop for every kind of query.
-        #[inline(never)]
-        fn any_kind<const S: usize, const KEPT: bool>(
-            &self,
-            from: &RaysFrom<S, KEPT>,
-            skip: (usize, usize),
-            roles: u8,
-            any: bool,
-            objects: &[impl Target],
-        ) -> Option<(f32, usize)> {
-            self.first_hit(from, skip, roles, any, objects)
-        }
-
-        /// The loop for one kind of query.
-        fn one_kind<const ANY: bool, const ROLES: u8, const S: usize, const KEPT: bool>(
-            &self,
-            from: &RaysFrom<S, KEPT>,
-            skip: (usize, usize),
-            objects: &[impl Target],
-        ) -> Option<(f32, usize)> {
-            self.first_hit(from, skip, ROLES, ANY, objects)
         }
 
         /// The loop of the queries: front to back, skipping objects `skip` and those whose role
         /// `roles` leaves out, each test bounded by the nearest hit so far; with `any`, the
-        /// first hit found. With `KEPT`, through the kept terms.
-        #[inline(always)]
-        fn first_hit<const S: usize, const KEPT: bool>(
+        /// first hit found. With `KEPT`, through the kept terms. `ANY_` (0, 1) and `ROLES_`
+        /// fix `any` and `roles` in this copy of the loop, unless they are [`RUNTIME`].
+        #[inline(never)]
+        fn scan<const ANY_: u8, const ROLES_: u8, const S: usize, const KEPT: bool>(
             &self,
             from: &RaysFrom<S, KEPT>,
             skip: (usize, usize),
@@ -621,6 +604,8 @@ mod plain {
             any: bool,
             objects: &[impl Target],
         ) -> Option<(f32, usize)> {
+            let roles = if ROLES_ == RUNTIME { roles } else { ROLES_ };
+            let any = if ANY_ == RUNTIME { any } else { ANY_ == 1 };
             let admits = |i: usize, o: &_| {
                 i != skip.0 && i != skip.1 && (roles == ALL || (roles == EMITTERS) == Target::emits(o))
             };
