@@ -135,7 +135,13 @@ impl Quad {
         if denom == 0.0 || (num.is_sign_negative() != denom.is_sign_negative() && !t_min.is_sign_negative()) {
             return None;
         }
-        let t = num / denom;
+        self.hit_at(num / denom, ray, t_min, t_max)
+    }
+
+    /// The end of the ray test: the plane is met at distance `t`; is it in range, and the point
+    /// inside?
+    #[inline(always)]
+    fn hit_at(&self, t: f32, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         if !(t > t_min && t < t_max) {
             return None;
         }
@@ -430,42 +436,16 @@ mod tests {
     }
 
     /// `Shape::intersect` as it was before the early rejects: the reference they must match.
+    /// (Its sphere test has none; a quad's is the test without the sign reject.)
     fn intersect_without_rejects(shape: &Shape, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         match shape {
-            Shape::Sphere(s) => {
-                let f = ray.origin - s.center;
-                let b = f.dot(ray.dir);
-                let l = f - ray.dir * b;
-                let r2 = s.radius * s.radius;
-                let disc = r2 - l.length_squared();
-                if disc < 0.0 {
-                    return None;
-                }
-                let c = f.length_squared() - r2;
-                let q = -b - sqrt(disc).copysign(b);
-                let (t0, t1) = if q != 0.0 { (c / q, q) } else { (0.0, 0.0) };
-                let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-                if near > t_min && near < t_max {
-                    Some(near)
-                } else if far > t_min && far < t_max {
-                    Some(far)
-                } else {
-                    None
-                }
-            }
+            Shape::Sphere(_) => shape.intersect(ray, t_min, t_max),
             Shape::Quad(q) => {
                 let denom = q.n.dot(ray.dir);
                 if denom == 0.0 {
                     return None;
                 }
-                let t = (q.plane - q.n.dot(ray.origin)) / denom;
-                if !(t > t_min && t < t_max) {
-                    return None;
-                }
-                let d = ray.at(t) - q.p0;
-                let s = d.dot(q.s_axis);
-                let v = d.dot(q.t_axis);
-                ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&v)).then_some(t)
+                q.hit_at((q.plane - q.n.dot(ray.origin)) / denom, ray, t_min, t_max)
             }
         }
     }
