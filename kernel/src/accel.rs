@@ -10,9 +10,13 @@
 //! - the nearest hit is the one a front-to-back loop would keep: the smallest distance, the lowest
 //!   object index among equal ones.
 //!
+//! A packet none of whose objects a query looks at is skipped (the BSDF ray's search for an
+//! emitter does not test the quads of a scene whose lights are spheres).
+//!
 //! Only hosted targets get the packets ([`ENABLED`]); on a microcontroller (no vector unit, and
-//! RAM for one copy of the shapes only) the queries run a plain loop over the objects, with the
-//! same bits, through the origin terms of the rays ([`RaysFrom`]) where they are kept.
+//! RAM for one copy of the shapes only) the queries run a plain loop over the objects in index
+//! order, with the same bits, through the origin terms of the rays (`RaysFrom`) where they
+//! are kept (`Shape::intersect_from` and its early rejects).
 
 use heapless::Vec;
 

@@ -55,7 +55,8 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     camera: Camera,
     film: Film,
     objects: Vec<Object, S>,
-    /// The shapes again, four to a packet, for ray queries (hosted targets only).
+    /// The shapes again, four to a packet, for ray queries (hosted targets; microcontrollers
+    /// keep only the span of the emitters' indices there).
     packets: Packets<S>,
     /// The camera's rays, with the origin terms of every object on microcontrollers.
     camera_rays: CameraRays<S>,
