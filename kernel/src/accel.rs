@@ -632,7 +632,7 @@ mod plain {
             } else {
                 for (i, o) in (first..).zip(objects) {
                     if admits(i, o) {
-                        if let Some(t) = o.shape().intersect(ray, t_min, t_far) {
+                        if let Some(t) = o.shape().intersect_inlined(ray, t_min, t_far) {
                             (t_far, best) = (t, Some(i));
                             if any {
                                 break;

@@ -231,8 +231,14 @@ impl Shape {
     }
 
     /// Distance to the nearest hit in `(t_min, t_max)`, either side of the surface.
-    #[inline(always)]
+    #[inline(never)]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        self.intersect_inlined(ray, t_min, t_max)
+    }
+
+    /// [`Shape::intersect`], inlined into the loops of the ray queries.
+    #[inline(always)]
+    pub(crate) fn intersect_inlined(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         match self {
             Shape::Sphere(s) => {
                 let f = ray.origin - s.center;
