@@ -182,7 +182,8 @@ pub fn estimate_direct_multi_sample<const S: usize, const L: usize, const M: usi
 
 /// The one-sample model: pick the light technique with probability c_l (else the BSDF technique,
 /// c_b = 1 - c_l), draw one sample X from it, F = w_i(X) f(X) / (c_i p_i(X)), q_i = c_i p_i.
-#[inline]
+/// (Out of line: its rays from x do not add to the stack frame of the multi-sample model's.)
+#[inline(never)]
 pub fn estimate_direct_one_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
