@@ -125,15 +125,15 @@ impl Filter {
 }
 
 impl Filter {
-    /// Whether the query may look at some object of a group that holds emitters (`emitters`)
-    /// and non-emitters (`others`).
+    /// Whether the query may look at some object of a (non-empty) group that holds emitters
+    /// (`emitters`) and non-emitters (`others`).
     #[cfg_attr(target_os = "none", allow(dead_code))]
     #[inline]
     fn may_admit(self, emitters: bool, others: bool) -> bool {
         match self {
             Filter::EmittersBut(_) => emitters,
             Filter::OthersBut(_) => others,
-            Filter::AllBut(_) | Filter::AllButTwo(..) => emitters || others,
+            Filter::AllBut(_) | Filter::AllButTwo(..) => true,
         }
     }
 }
