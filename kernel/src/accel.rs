@@ -154,7 +154,7 @@ mod packets {
 
     use super::{Filter, RaysFrom, Target};
     use crate::math::Vec3;
-    use crate::shape::{Ray, Shape};
+    use crate::shape::Shape;
 
     const LANES: usize = 4;
     /// Object index of an empty lane.
@@ -252,8 +252,7 @@ mod packets {
 
     impl RayLanes {
         #[inline(always)]
-        fn new(ray: &Ray) -> Self {
-            let (o, d) = (ray.origin, ray.dir);
+        fn new(o: Vec3, d: Vec3) -> Self {
             Self {
                 o: [f32x4::splat(o.x), f32x4::splat(o.y), f32x4::splat(o.z)],
                 d: [f32x4::splat(d.x), f32x4::splat(d.y), f32x4::splat(d.z)],
@@ -401,7 +400,6 @@ mod packets {
             objects: &[impl Target],
         ) -> Option<(f32, usize)> {
             let shape = |i: usize| objects.get(i).map(Target::shape);
-            let ray = &from.ray(dir);
             let (mut t_far, mut best) = (t_max, usize::MAX);
             let mut offer = |t: f32, i: usize| {
                 // A front-to-back loop keeps the first of equal distances: the lowest index.
@@ -409,7 +407,7 @@ mod packets {
                     (t_far, best) = (t, i);
                 }
             };
-            let r = RayLanes::new(ray);
+            let r = RayLanes::new(from.origin, dir);
             let looked_at = |l: &Lanes| filter.may_admit(l.emitters, l.others);
             for p in &self.quads {
                 if !looked_at(&p.lanes) {
@@ -429,7 +427,7 @@ mod packets {
                 for k in lanes(p.candidates(&r)) {
                     if p.lanes.admitted(filter, k) {
                         let i = p.lanes.object(k);
-                        if let Some(t) = shape(i).and_then(|s| s.intersect(ray, t_min, t_max)) {
+                        if let Some(t) = shape(i).and_then(|s| s.intersect(&from.ray(dir), t_min, t_max)) {
                             offer(t, i);
                         }
                     }
@@ -451,8 +449,7 @@ mod packets {
             objects: &[impl Target],
         ) -> bool {
             let shape = |i: usize| objects.get(i).map(Target::shape);
-            let ray = &from.ray(dir);
-            let r = RayLanes::new(ray);
+            let r = RayLanes::new(from.origin, dir);
             let looked_at = |l: &Lanes| filter.may_admit(l.emitters, l.others);
             for p in self.quads.iter().filter(|p| looked_at(&p.lanes)) {
                 let (_, hits) = p.distances(&r, t_min, t_max);
@@ -463,7 +460,9 @@ mod packets {
             for p in self.spheres.iter().filter(|p| looked_at(&p.lanes)) {
                 for k in lanes(p.candidates(&r)) {
                     if p.lanes.admitted(filter, k)
-                        && shape(p.lanes.object(k)).and_then(|s| s.intersect(ray, t_min, t_max)).is_some()
+                        && shape(p.lanes.object(k))
+                            .and_then(|s| s.intersect(&from.ray(dir), t_min, t_max))
+                            .is_some()
                     {
                         return true;
                     }
