@@ -6,12 +6,16 @@ reads QEMU's execution log instead).
     qemu-system-arm -machine netduinoplus2 -nographic -monitor none -serial null \
         -semihosting-config enable=on,target=native -icount shift=0 \
         -d in_asm,exec,nochain -D qemu.log -kernel ELF
-    scripts/firmware-profile.py qemu.log ELF [TOP]
+    scripts/firmware-profile.py qemu.log ELF [TOP] [--charge FILE,FILE...]
 
 Prints executed instructions per innermost (inlined) function, per outermost function and per
 source line (addr2line -i), per symbol with its calls and instructions per call (from the
 symbol table: right for assembly routines too, which have no line information), then the call
-sites of out-of-line functions. Keep the film tiny:
+sites of out-of-line functions. With `--charge shape.rs,accel.rs,scene.rs`, also the instructions
+spent in those source files anywhere on the inline chain, with the library routines they call
+(soft float, libm, memcpy) charged to them: e.g. the ray queries' share (the firmware renders the
+film twice, once for the framebuffer and once for the HDR digest: divide by twice its pixels for
+a figure per camera sample). Keep the film tiny:
 the log holds one line per executed translation block. Needs arm-none-eabi-addr2line and -nm.
 """
 import bisect
@@ -22,6 +26,8 @@ import sys
 
 INS = re.compile(r'^0x([0-9a-f]+):')
 TRACE = re.compile(r'^Trace \d+: \S+ \[[0-9a-f]+/([0-9a-f]+)/')
+# Out-of-line library routines, whose instructions `--charge` gives to the code that called them.
+LIBRARY = re.compile(r'compiler_builtins|__aeabi_|__(add|sub|mul|div)sf3|__clzsi2|libm::|sqrtf|mem(cpy|set|move|clr)')
 
 
 def short(s):
@@ -31,8 +37,14 @@ def short(s):
 
 
 def main():
-    log, elf = sys.argv[1], sys.argv[2]
-    top = int(sys.argv[3]) if len(sys.argv) > 3 else 30
+    args = sys.argv[1:]
+    charge = []
+    if '--charge' in args:
+        k = args.index('--charge')
+        charge = args[k + 1].split(',')
+        del args[k:k + 2]
+    log, elf = args[0], args[1]
+    top = int(args[2]) if len(args) > 2 else 30
     syms, ranges = {}, []
     nm = subprocess.run(['arm-none-eabi-nm', '-C', '-S', '--defined-only', elf], capture_output=True, text=True)
     for line in nm.stdout.splitlines():
@@ -48,8 +60,8 @@ def main():
         i = bisect.bisect_right(starts, a) - 1
         return ranges[i][2] if i >= 0 and a < ranges[i][1] else '?'
 
-    tb, cur, prev_last = {}, None, None
-    counts, calls = collections.Counter(), collections.Counter()
+    tb, cur, prev_last, site = {}, None, None, None
+    counts, calls, charged, library = collections.Counter(), collections.Counter(), collections.Counter(), {}
     with open(log, errors='replace') as f:
         for line in f:
             if line.startswith('IN:'):
@@ -72,6 +84,12 @@ def main():
                 if pc in syms and prev_last is not None:
                     calls[(syms[pc], prev_last)] += 1
                 prev_last = block[-1]
+                if pc not in library:
+                    library[pc] = bool(LIBRARY.search(symbol(pc)))
+                if library[pc]:
+                    charged[site] += len(block)
+                else:
+                    site = block[-1]
     pcs = sorted(set(counts) | {a for (_, a) in calls})
     out = subprocess.run(['arm-none-eabi-addr2line', '-a', '-f', '-i', '-C', '-e', elf] + [hex(p) for p in pcs],
                          capture_output=True, text=True).stdout.splitlines()
@@ -112,6 +130,13 @@ def main():
         agg[(short(s)[:50], f[:60] + ' ' + loc)] += n
     for (s, w), n in agg.most_common(top):
         print(f'{n:10d}  {s:50s} <- {w}')
+    if charge:
+        def through(a):
+            return any(loc.split(':')[0] in charge for _, loc in chains.get(a, []))
+        own = sum(n for a, n in counts.items() if not library.get(a, False) and through(a))
+        lib = sum(n for a, n in charged.items() if a is not None and through(a))
+        print(f'\n== instructions through {", ".join(charge)} (library routines charged to their callers)')
+        print(f'{own + lib:12d} {100 * (own + lib) / total:5.1f}%  ({own} in the code itself, {lib} in the routines it calls)')
 
 
 if __name__ == '__main__':

@@ -10,11 +10,90 @@
 //! - the nearest hit is the one a front-to-back loop would keep: the smallest distance, the lowest
 //!   object index among equal ones.
 //!
+//! A packet none of whose objects a query looks at is skipped (the BSDF ray's search for an
+//! emitter does not test the quads of a scene whose lights are spheres).
+//!
 //! Only hosted targets get the packets ([`ENABLED`]); on a microcontroller (no vector unit, and
-//! RAM for one copy of the shapes only) the scene runs the plain loop, with the same bits.
+//! RAM for one copy of the shapes only) the queries run a plain loop over the objects in index
+//! order, with the same bits, through the origin terms of the rays (`RaysFrom`) where they
+//! are kept (`Shape::intersect_from` and its early rejects).
+
+use heapless::Vec;
+
+use crate::math::{SOFT_FLOAT, Vec3};
+use crate::shape::{OriginTerms, Ray, Shape};
 
 /// Whether scenes keep packets and run ray queries through them on this target.
 pub const ENABLED: bool = cfg!(not(target_os = "none"));
+
+/// Rays from one origin, with every object's [`OriginTerms`] when `KEPT`: computed once for all
+/// the rays from there instead of once per ray-object test. Microcontrollers keep the camera's
+/// ([`CameraRays`]), and a shading point's ([`PointRays`]) where f32 operations are soft-float
+/// calls ([`SOFT_FLOAT`]: there, sharing them between the shadow and the BSDF ray pays for the
+/// loads and stores; with an FPU the loads and stores cost as much as the terms). The packets
+/// of hosted targets keep none.
+#[derive(Clone, Debug)]
+pub(crate) struct RaysFrom<const S: usize, const KEPT: bool> {
+    origin: Vec3,
+    /// With `KEPT`, the terms of every object in order (else empty).
+    terms: Vec<OriginTerms, S>,
+}
+
+/// The rays from the camera.
+pub(crate) type CameraRays<const S: usize> = RaysFrom<S, { !ENABLED }>;
+/// The rays from a shading point (its shadow and BSDF rays).
+pub(crate) type PointRays<const S: usize> = RaysFrom<S, { SOFT_FLOAT && !ENABLED }>;
+
+impl<const S: usize, const KEPT: bool> RaysFrom<S, KEPT> {
+    /// The rays from `origin`, before any object is added.
+    #[inline]
+    pub(crate) fn new(origin: Vec3) -> Self {
+        Self { origin, terms: Vec::new() }
+    }
+
+    /// `f` of the rays from `origin` among `shapes` (every object's, in order), built in
+    /// place (returning them would copy the terms).
+    #[inline(always)]
+    pub(crate) fn with<'a, R>(
+        origin: Vec3,
+        shapes: impl Iterator<Item = &'a Shape>,
+        f: impl FnOnce(&Self) -> R,
+    ) -> R {
+        let mut rays = Self::new(origin);
+        for shape in shapes {
+            rays.push(shape);
+        }
+        f(&rays)
+    }
+
+    /// The same rays with object `shape` added (the scene's next object).
+    #[inline]
+    pub(crate) fn push(&mut self, shape: &Shape) {
+        if KEPT {
+            let _ = self.terms.push(shape.origin_terms(self.origin)); // room: at most S objects
+        }
+    }
+
+    /// The ray from here along the unit direction `dir`.
+    #[inline]
+    pub(crate) fn ray(&self, dir: Vec3) -> Ray {
+        Ray { origin: self.origin, dir }
+    }
+
+    /// Whether these are the rays from `origin` (the same bits).
+    #[inline]
+    pub(crate) fn start_at(&self, origin: Vec3) -> bool {
+        let same = |a: f32, b: f32| a.to_bits() == b.to_bits();
+        same(self.origin.x, origin.x) && same(self.origin.y, origin.y) && same(self.origin.z, origin.z)
+    }
+
+    /// The kept origin terms of every object (with `KEPT`).
+    #[cfg_attr(not(target_os = "none"), allow(dead_code))]
+    #[inline]
+    fn terms(&self) -> &[OriginTerms] {
+        &self.terms
+    }
+}
 
 /// Which objects a query looks at.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,6 +109,7 @@ pub enum Filter {
 }
 
 impl Filter {
+    /// Whether the query looks at object `object` (`u16::MAX`: an empty lane), an emitter or not.
     #[cfg_attr(target_os = "none", allow(dead_code))]
     #[inline]
     fn admits(self, object: u16, emitter: bool) -> bool {
@@ -44,14 +124,37 @@ impl Filter {
     }
 }
 
+impl Filter {
+    /// Whether the query may look at some object of a (non-empty) group that holds emitters
+    /// (`emitters`) and non-emitters (`others`).
+    #[cfg_attr(target_os = "none", allow(dead_code))]
+    #[inline]
+    fn may_admit(self, emitters: bool, others: bool) -> bool {
+        match self {
+            Filter::EmittersBut(_) => emitters,
+            Filter::OthersBut(_) => others,
+            Filter::AllBut(_) | Filter::AllButTwo(..) => true,
+        }
+    }
+}
+
+/// What a ray query needs of an object: its shape and whether it emits.
+pub(crate) trait Target {
+    /// The object's shape.
+    fn shape(&self) -> &Shape;
+    /// Whether the object is an emitter.
+    #[cfg_attr(not(target_os = "none"), allow(dead_code))]
+    fn emits(&self) -> bool;
+}
+
 #[cfg(not(target_os = "none"))]
 mod packets {
     use heapless::Vec;
     use wide::{CmpGe, CmpGt, CmpLe, CmpLt, CmpNe, f32x4};
 
-    use super::Filter;
+    use super::{Filter, RaysFrom, Target};
     use crate::math::Vec3;
-    use crate::shape::{Ray, Shape};
+    use crate::shape::Shape;
 
     const LANES: usize = 4;
     /// Object index of an empty lane.
@@ -61,8 +164,7 @@ mod packets {
     struct SpherePacket {
         c: [f32x4; 3],
         r2: f32x4,
-        object: [u16; LANES],
-        emitter: [bool; LANES],
+        lanes: Lanes,
     }
 
     #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,8 +174,53 @@ mod packets {
         p0: [f32x4; 3],
         s_axis: [f32x4; 3],
         t_axis: [f32x4; 3],
+        lanes: Lanes,
+    }
+
+    /// The objects in a packet's lanes.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    struct Lanes {
         object: [u16; LANES],
         emitter: [bool; LANES],
+        /// Some lane holds an emitter; some lane holds another object. A query that looks at
+        /// neither skips the packet.
+        emitters: bool,
+        others: bool,
+    }
+
+    impl Lanes {
+        const EMPTY: Self =
+            Self { object: [EMPTY; LANES], emitter: [false; LANES], emitters: false, others: false };
+
+        /// Lane `k` holds object `id`, not (yet) an emitter.
+        fn set(&mut self, k: usize, id: u16) {
+            if let Some(o) = self.object.get_mut(k) {
+                *o = id;
+                self.others = true;
+            }
+        }
+
+        /// Marks object `object` as an emitter, if it is here.
+        fn set_emitter(&mut self, object: usize) {
+            for (o, e) in self.object.iter().zip(self.emitter.iter_mut()) {
+                *e |= usize::from(*o) == object;
+            }
+            let lanes = || self.object.iter().zip(&self.emitter).filter(|(o, _)| **o != EMPTY);
+            self.emitters = lanes().any(|(_, e)| *e);
+            self.others = lanes().any(|(_, e)| !*e);
+        }
+
+        /// Whether the object in lane `k` (< 4) is one `filter` admits.
+        #[inline(always)]
+        fn admitted(&self, filter: Filter, k: usize) -> bool {
+            filter.admits(self.object[k], self.emitter[k])
+        }
+
+        /// The object in lane `k` (< 4).
+        #[inline(always)]
+        fn object(&self, k: usize) -> usize {
+            usize::from(self.object[k])
+        }
     }
 
     /// Sets lane `k` of the three vectors `v` to the components of `x`.
@@ -105,8 +252,7 @@ mod packets {
 
     impl RayLanes {
         #[inline(always)]
-        fn new(ray: &Ray) -> Self {
-            let (o, d) = (ray.origin, ray.dir);
+        fn new(o: Vec3, d: Vec3) -> Self {
             Self {
                 o: [f32x4::splat(o.x), f32x4::splat(o.y), f32x4::splat(o.z)],
                 d: [f32x4::splat(d.x), f32x4::splat(d.y), f32x4::splat(d.z)],
@@ -115,12 +261,7 @@ mod packets {
     }
 
     impl SpherePacket {
-        const EMPTY: Self = Self {
-            c: [f32x4::ZERO; 3],
-            r2: f32x4::new([-1.0; LANES]),
-            object: [EMPTY; LANES],
-            emitter: [false; LANES],
-        };
+        const EMPTY: Self = Self { c: [f32x4::ZERO; 3], r2: f32x4::new([-1.0; LANES]), lanes: Lanes::EMPTY };
 
         /// Bit k set: the line of the ray may meet lane k's sphere (the discriminant of
         /// `Shape::intersect` is not negative, NaN included, as there).
@@ -141,8 +282,7 @@ mod packets {
             p0: [f32x4::ZERO; 3],
             s_axis: [f32x4::ZERO; 3],
             t_axis: [f32x4::ZERO; 3],
-            object: [EMPTY; LANES],
-            emitter: [false; LANES],
+            lanes: Lanes::EMPTY,
         };
 
         /// Each lane's hit distance as `Shape::intersect` computes it, and a bit mask of the lanes
@@ -216,7 +356,7 @@ mod packets {
                     let Some(p) = self.spheres.last_mut() else { return };
                     set3(&mut p.c, k, c);
                     set(&mut p.r2, k, r * r);
-                    p.object[k] = id;
+                    p.lanes.set(k, id);
                     self.sphere_count += 1;
                 }
                 Shape::Quad(q) => {
@@ -230,7 +370,7 @@ mod packets {
                     set3(&mut p.s_axis, k, s_axis);
                     set3(&mut p.t_axis, k, t_axis);
                     set(&mut p.plane, k, plane);
-                    p.object[k] = id;
+                    p.lanes.set(k, id);
                     self.quad_count += 1;
                 }
             }
@@ -239,32 +379,27 @@ mod packets {
         /// Marks object `object` as an emitter.
         pub fn set_emitter(&mut self, object: usize) {
             for p in self.spheres.iter_mut() {
-                for k in 0..LANES {
-                    if usize::from(p.object[k]) == object {
-                        p.emitter[k] = true;
-                    }
-                }
+                p.lanes.set_emitter(object);
             }
             for p in self.quads.iter_mut() {
-                for k in 0..LANES {
-                    if usize::from(p.object[k]) == object {
-                        p.emitter[k] = true;
-                    }
-                }
+                p.lanes.set_emitter(object);
             }
         }
 
-        /// The nearest hit in `(t_min, t_max)` among the objects `filter` admits, as
-        /// `(distance, object)`; `objects(i)` is object i's shape. `None` when nothing is hit.
-        #[inline]
-        pub fn nearest<'a>(
+        /// The nearest hit in `(t_min, t_max)` along the ray from `from` in direction `dir`
+        /// among the objects `filter` admits, as `(distance, object)`; `objects` are the
+        /// scene's objects. `None` when nothing is hit.
+        #[inline(always)]
+        pub(crate) fn nearest<const N: usize, const K: bool>(
             &self,
-            ray: &Ray,
+            from: &RaysFrom<N, K>,
+            dir: Vec3,
             t_min: f32,
             t_max: f32,
             filter: Filter,
-            shape: impl Fn(usize) -> Option<&'a Shape>,
+            objects: &[impl Target],
         ) -> Option<(f32, usize)> {
+            let shape = |i: usize| objects.get(i).map(Target::shape);
             let (mut t_far, mut best) = (t_max, usize::MAX);
             let mut offer = |t: f32, i: usize| {
                 // A front-to-back loop keeps the first of equal distances: the lowest index.
@@ -272,20 +407,27 @@ mod packets {
                     (t_far, best) = (t, i);
                 }
             };
-            let r = RayLanes::new(ray);
+            let r = RayLanes::new(from.origin, dir);
+            let looked_at = |l: &Lanes| filter.may_admit(l.emitters, l.others);
             for p in &self.quads {
+                if !looked_at(&p.lanes) {
+                    continue;
+                }
                 let (t, hits) = p.distances(&r, t_min, t_max);
                 for k in lanes(hits) {
-                    if filter.admits(p.object[k], p.emitter[k]) {
-                        offer(t[k], usize::from(p.object[k]));
+                    if p.lanes.admitted(filter, k) {
+                        offer(t[k], p.lanes.object(k));
                     }
                 }
             }
             for p in &self.spheres {
+                if !looked_at(&p.lanes) {
+                    continue;
+                }
                 for k in lanes(p.candidates(&r)) {
-                    if filter.admits(p.object[k], p.emitter[k]) {
-                        let i = usize::from(p.object[k]);
-                        if let Some(t) = shape(i).and_then(|s| s.intersect(ray, t_min, t_max)) {
+                    if p.lanes.admitted(filter, k) {
+                        let i = p.lanes.object(k);
+                        if let Some(t) = shape(i).and_then(|s| s.intersect(&from.ray(dir), t_min, t_max)) {
                             offer(t, i);
                         }
                     }
@@ -294,28 +436,32 @@ mod packets {
             (best != usize::MAX).then_some((t_far, best))
         }
 
-        /// True when any object `filter` admits is hit in `(t_min, t_max)`.
-        #[inline]
-        pub fn any<'a>(
+        /// True when any object `filter` admits is hit in `(t_min, t_max)` along the ray from
+        /// `from` in direction `dir`; `objects` are the scene's objects.
+        #[inline(always)]
+        pub(crate) fn any<const N: usize, const K: bool>(
             &self,
-            ray: &Ray,
+            from: &RaysFrom<N, K>,
+            dir: Vec3,
             t_min: f32,
             t_max: f32,
             filter: Filter,
-            shape: impl Fn(usize) -> Option<&'a Shape>,
+            objects: &[impl Target],
         ) -> bool {
-            let r = RayLanes::new(ray);
-            for p in &self.quads {
+            let shape = |i: usize| objects.get(i).map(Target::shape);
+            let r = RayLanes::new(from.origin, dir);
+            let looked_at = |l: &Lanes| filter.may_admit(l.emitters, l.others);
+            for p in self.quads.iter().filter(|p| looked_at(&p.lanes)) {
                 let (_, hits) = p.distances(&r, t_min, t_max);
-                if lanes(hits).any(|k| filter.admits(p.object[k], p.emitter[k])) {
+                if lanes(hits).any(|k| p.lanes.admitted(filter, k)) {
                     return true;
                 }
             }
-            for p in &self.spheres {
+            for p in self.spheres.iter().filter(|p| looked_at(&p.lanes)) {
                 for k in lanes(p.candidates(&r)) {
-                    if filter.admits(p.object[k], p.emitter[k])
-                        && shape(usize::from(p.object[k]))
-                            .and_then(|s| s.intersect(ray, t_min, t_max))
+                    if p.lanes.admitted(filter, k)
+                        && shape(p.lanes.object(k))
+                            .and_then(|s| s.intersect(&from.ray(dir), t_min, t_max))
                             .is_some()
                     {
                         return true;
@@ -328,49 +474,181 @@ mod packets {
 }
 
 /// Microcontrollers keep no packets (no vector unit, and RAM for one copy of the shapes only):
-/// the scene runs its plain loops ([`ENABLED`] is false there).
-#[cfg(target_os = "none")]
-mod packets {
-    use super::Filter;
+/// the queries run a plain loop over the objects, in index order, through the rays' origin terms
+/// where they are kept.
+#[cfg(any(target_os = "none", test))]
+mod plain {
+    use super::{Filter, RaysFrom, Target};
+    use crate::math::{SOFT_FLOAT, Vec3};
     use crate::shape::{Ray, Shape};
 
-    /// No packets.
+    /// No packets: the span of object indices that holds the emitters (a query for emitters
+    /// looks there only).
     #[derive(Clone, Debug, Default)]
     pub struct Packets<const S: usize> {
-        _none: (),
+        emitters: core::ops::Range<usize>,
     }
 
     impl<const S: usize> Packets<S> {
         /// Nothing to store.
         pub fn push(&mut self, _object: usize, _shape: &Shape) {}
-        /// Nothing to mark.
-        pub fn set_emitter(&mut self, _object: usize) {}
-        /// Never called ([`super::ENABLED`] is false).
-        pub fn nearest<'a>(
-            &self,
-            _ray: &Ray,
-            _t_min: f32,
-            _t_max: f32,
-            _filter: Filter,
-            _shape: impl Fn(usize) -> Option<&'a Shape>,
-        ) -> Option<(f32, usize)> {
-            None
+
+        /// Marks object `object` as an emitter.
+        pub fn set_emitter(&mut self, object: usize) {
+            let e = &self.emitters;
+            self.emitters =
+                if e.is_empty() { object..object + 1 } else { e.start.min(object)..e.end.max(object + 1) };
         }
-        /// Never called ([`super::ENABLED`] is false).
-        pub fn any<'a>(
+
+        /// The objects a query with `filter` looks at, among `n`.
+        #[inline]
+        fn span(&self, filter: Filter, n: usize) -> core::ops::Range<usize> {
+            match filter {
+                Filter::EmittersBut(_) => self.emitters.clone(),
+                _ => 0..n,
+            }
+        }
+
+        /// The nearest hit in `(t_min, t_max)` along the ray from `from` in direction `dir`
+        /// among the objects `filter` admits, as `(distance, object)`; `objects` are the
+        /// scene's objects. `None` when nothing is hit.
+        #[inline]
+        pub(crate) fn nearest<const K: bool>(
             &self,
-            _ray: &Ray,
-            _t_min: f32,
-            _t_max: f32,
-            _filter: Filter,
-            _shape: impl Fn(usize) -> Option<&'a Shape>,
+            from: &RaysFrom<S, K>,
+            dir: Vec3,
+            t_min: f32,
+            t_max: f32,
+            filter: Filter,
+            objects: &[impl Target],
+        ) -> Option<(f32, usize)> {
+            let span = self.span(filter, objects.len());
+            Query { ray: from.ray(dir), t_min, t_max, span }.run::<false, S, K>(from, filter, objects)
+        }
+
+        /// True when any object `filter` admits is hit in `(t_min, t_max)` along the ray from
+        /// `from` in direction `dir`; `objects` are the scene's objects.
+        #[inline]
+        pub(crate) fn any<const K: bool>(
+            &self,
+            from: &RaysFrom<S, K>,
+            dir: Vec3,
+            t_min: f32,
+            t_max: f32,
+            filter: Filter,
+            objects: &[impl Target],
         ) -> bool {
-            false
+            let span = self.span(filter, objects.len());
+            Query { ray: from.ray(dir), t_min, t_max, span }
+                .run::<true, S, K>(from, filter, objects)
+                .is_some()
+        }
+    }
+
+    /// Object index of "no object".
+    const NONE: usize = usize::MAX;
+    /// The roles of object a query looks at: all, emitters only, non-emitters only.
+    const ALL: u8 = 0;
+    const EMITTERS: u8 = 1;
+    const OTHERS: u8 = 2;
+    /// A parameter of [`Query::scan`] decided at run time.
+    const RUNTIME: u8 = 3;
+
+    /// A ray, its distance range and the span of objects to look at.
+    struct Query {
+        ray: Ray,
+        t_min: f32,
+        t_max: f32,
+        span: core::ops::Range<usize>,
+    }
+
+    impl Query {
+        /// The query with `filter`, nearest hit or with `ANY` any hit. The four queries of a
+        /// camera sample on a target with an FPU (the camera ray's nearest hit, the shadow
+        /// ray's any hit, the BSDF ray's nearest emitter and any occluder) get a copy of the
+        /// loop each, with the filter built in; the rest share one. (Where f32 operations are
+        /// soft-float calls, the loop's own instructions hardly count: one copy for all.)
+        #[inline]
+        fn run<const ANY: bool, const S: usize, const KEPT: bool>(
+            &self,
+            from: &RaysFrom<S, KEPT>,
+            filter: Filter,
+            objects: &[impl Target],
+        ) -> Option<(f32, usize)> {
+            let (roles, skip) = match filter {
+                Filter::AllBut(a) => (ALL, (a, NONE)),
+                Filter::AllButTwo(a, b) => (ALL, (a, b)),
+                Filter::EmittersBut(a) => (EMITTERS, (a, NONE)),
+                Filter::OthersBut(a) => (OTHERS, (a, NONE)),
+            };
+            match (SOFT_FLOAT, ANY, roles, KEPT) {
+                (false, false, ALL, true) => self.scan::<0, ALL, S, KEPT>(from, skip, roles, ANY, objects),
+                (false, true, ALL, false) => self.scan::<1, ALL, S, KEPT>(from, skip, roles, ANY, objects),
+                (false, false, EMITTERS, false) => {
+                    self.scan::<0, EMITTERS, S, KEPT>(from, skip, roles, ANY, objects)
+                }
+                (false, true, OTHERS, false) => {
+                    self.scan::<1, OTHERS, S, KEPT>(from, skip, roles, ANY, objects)
+                }
+                _ => self.scan::<RUNTIME, RUNTIME, S, KEPT>(from, skip, roles, ANY, objects),
+            }
+        }
+
+        /// The loop of the queries: front to back, skipping objects `skip` and those whose role
+        /// `roles` leaves out, each test bounded by the nearest hit so far; with `any`, the
+        /// first hit found. With `KEPT`, through the kept terms. `ANY_` (0, 1) and `ROLES_`
+        /// fix `any` and `roles` in this copy of the loop, unless they are [`RUNTIME`].
+        #[inline(never)]
+        fn scan<const ANY_: u8, const ROLES_: u8, const S: usize, const KEPT: bool>(
+            &self,
+            from: &RaysFrom<S, KEPT>,
+            skip: (usize, usize),
+            roles: u8,
+            any: bool,
+            objects: &[impl Target],
+        ) -> Option<(f32, usize)> {
+            let roles = if ROLES_ == RUNTIME { roles } else { ROLES_ };
+            let any = if ANY_ == RUNTIME { any } else { ANY_ == 1 };
+            let admits = |i: usize, o: &_| {
+                i != skip.0 && i != skip.1 && (roles == ALL || (roles == EMITTERS) == Target::emits(o))
+            };
+            let (ray, t_min) = (&self.ray, self.t_min);
+            let (mut t_far, mut best) = (self.t_max, None);
+            let first = self.span.start;
+            let objects = objects.get(self.span.clone()).unwrap_or_default();
+            if KEPT {
+                let terms = from.terms().get(self.span.clone()).unwrap_or_default();
+                for (i, (o, terms)) in (first..).zip(objects.iter().zip(terms)) {
+                    if admits(i, o) {
+                        if let Some(t) = o.shape().intersect_from(terms, ray, t_min, t_far) {
+                            (t_far, best) = (t, Some(i));
+                            if any {
+                                break;
+                            }
+                        }
+                    }
+                }
+            } else {
+                for (i, o) in (first..).zip(objects) {
+                    if admits(i, o) {
+                        if let Some(t) = o.shape().intersect_inlined(ray, t_min, t_far) {
+                            (t_far, best) = (t, Some(i));
+                            if any {
+                                break;
+                            }
+                        }
+                    }
+                }
+            }
+            best.map(|i| (t_far, i))
         }
     }
 }
 
+#[cfg(not(target_os = "none"))]
 pub use packets::Packets;
+#[cfg(target_os = "none")]
+pub use plain::Packets;
 
 #[cfg(test)]
 mod tests {
@@ -378,6 +656,15 @@ mod tests {
     use crate::math::Vec3;
     use crate::rng::Sampler;
     use crate::shape::{Ray, Shape};
+
+    impl Target for (Shape, bool) {
+        fn shape(&self) -> &Shape {
+            &self.0
+        }
+        fn emits(&self) -> bool {
+            self.1
+        }
+    }
 
     /// The plain loop the packets must reproduce: nearest hit, front to back.
     fn nearest_loop(
@@ -427,13 +714,15 @@ mod tests {
         for scene in 0..200 {
             let shapes = random_shapes(&mut rng, 1 + scene % 13);
             let mut packets: Packets<16> = Packets::default();
+            let mut plain: plain::Packets<16> = plain::Packets::default();
             for (i, (s, e)) in shapes.iter().enumerate() {
                 packets.push(i, s);
+                plain.push(i, s);
                 if *e {
                     packets.set_emitter(i);
+                    plain.set_emitter(i);
                 }
             }
-            let shape = |i: usize| shapes.get(i).map(|(s, _)| s);
             for _ in 0..200 {
                 let origin = Vec3::new(
                     rng.next_f32() * 8.0 - 4.0,
@@ -459,13 +748,22 @@ mod tests {
                     Filter::AllButTwo(skip, 3),
                 ] {
                     let want = nearest_loop(&shapes, &ray, t_min, t_max, f);
-                    let got = packets.nearest(&ray, t_min, t_max, f, shape);
-                    assert_eq!(
-                        got.map(|(t, i)| (t.to_bits(), i)),
-                        want.map(|(t, i)| (t.to_bits(), i)),
-                        "{ray:?} {f:?}"
-                    );
-                    assert_eq!(packets.any(&ray, t_min, t_max, f, shape), want.is_some());
+                    let bits = |h: Option<(f32, usize)>| h.map(|(t, i)| (t.to_bits(), i));
+                    let from: RaysFrom<16, false> = RaysFrom::new(ray.origin);
+                    let got = packets.nearest(&from, ray.dir, t_min, t_max, f, &shapes);
+                    assert_eq!(bits(got), bits(want), "{ray:?} {f:?}");
+                    assert_eq!(packets.any(&from, ray.dir, t_min, t_max, f, &shapes), want.is_some());
+                    // The microcontrollers' plain loop, with the full tests and through kept terms.
+                    let got = plain.nearest(&from, ray.dir, t_min, t_max, f, &shapes);
+                    assert_eq!(bits(got), bits(want), "plain: {ray:?} {f:?}");
+                    assert_eq!(plain.any(&from, ray.dir, t_min, t_max, f, &shapes), want.is_some());
+                    let mut kept: RaysFrom<16, true> = RaysFrom::new(ray.origin);
+                    for (s, _) in &shapes {
+                        kept.push(s);
+                    }
+                    let got = plain.nearest(&kept, ray.dir, t_min, t_max, f, &shapes);
+                    assert_eq!(bits(got), bits(want), "kept terms: {ray:?} {f:?}");
+                    assert_eq!(plain.any(&kept, ray.dir, t_min, t_max, f, &shapes), want.is_some());
                     hits += usize::from(want.is_some());
                 }
             }

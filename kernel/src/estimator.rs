@@ -9,6 +9,7 @@
 //! technique's weighted contribution and weights are kept apart, so the lecture's weight and
 //! contribution images come from this one function.
 
+use crate::accel::PointRays;
 use crate::analytic;
 use crate::ids::LightId;
 use crate::light::Light;
@@ -108,20 +109,18 @@ pub fn trace<const S: usize, const L: usize, const M: usize>(
     t_near: f32,
     sampler: &mut Sampler,
 ) -> Estimate {
-    let mut out = Estimate::default();
     let Some(hit) = scene.intersect(ray, t_near, f32::INFINITY, None) else {
-        return out;
+        return Estimate::default();
     };
     if !hit.front {
-        return out; // one-sided: nothing is emitted or reflected towards the back
+        return Estimate::default(); // one-sided: nothing is emitted or reflected towards the back
     }
-    if let Some((_, Light::Area { radiance, .. })) = scene.emitter(hit.object) {
-        out.emitted = *radiance;
-    }
+    let emitted = match scene.emitter(hit.object) {
+        Some((_, Light::Area { radiance, .. })) => *radiance,
+        _ => Rgb::ZERO,
+    };
     let (light, bsdf) = estimate_direct(scene, settings, &hit, -ray.dir, sampler);
-    out.light = light;
-    out.bsdf = bsdf;
-    out
+    Estimate { emitted, light, bsdf }
 }
 
 /// Direct lighting at `x` towards `wo`, by light sampling and BSDF sampling combined with MIS,
@@ -161,27 +160,30 @@ pub fn estimate_direct_multi_sample<const S: usize, const L: usize, const M: usi
     let method = settings.method();
     let (n_l, n_b) = settings.technique_samples();
     let (n_light, n_bsdf) = (f32::from(n_l), f32::from(n_b));
-
-    // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
-    for _ in 0..n_l {
-        if let Some(s) = light_sample(scene, settings, at, sampler) {
-            add_light_sample(&mut by_light, method, &s, n_light, n_bsdf);
+    // Shadow and BSDF rays all start at x: what their tests need of x alone, computed once.
+    scene.with_rays_from(at.x.point.p, |from_x| {
+        // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
+        for _ in 0..n_l {
+            if let Some(s) = light_sample(scene, settings, at, from_x, sampler) {
+                add_light_sample(&mut by_light, method, &s, n_light, n_bsdf);
+            }
         }
-    }
 
-    // Technique 2, BSDF sampling: wi ~ p_b, trace; if a light's front side is hit,
-    // w_b L_e f cos / (n_b p_b), with p_l evaluated for the light that was hit.
-    for _ in 0..n_b {
-        bsdf_sample(scene, settings, at, sampler, |s| {
-            add_bsdf_sample(&mut by_bsdf, method, &s, n_light, n_bsdf)
-        });
-    }
+        // Technique 2, BSDF sampling: wi ~ p_b, trace; if a light's front side is hit,
+        // w_b L_e f cos / (n_b p_b), with p_l evaluated for the light that was hit.
+        for _ in 0..n_b {
+            bsdf_sample(scene, settings, at, from_x, sampler, |s| {
+                add_bsdf_sample(&mut by_bsdf, method, &s, n_light, n_bsdf)
+            });
+        }
+    });
     (by_light, by_bsdf)
 }
 
 /// The one-sample model: pick the light technique with probability c_l (else the BSDF technique,
 /// c_b = 1 - c_l), draw one sample X from it, F = w_i(X) f(X) / (c_i p_i(X)), q_i = c_i p_i.
-#[inline]
+/// (Out of line: its rays from x do not add to the stack frame of the multi-sample model's.)
+#[inline(never)]
 pub fn estimate_direct_one_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
@@ -193,15 +195,17 @@ pub fn estimate_direct_one_sample<const S: usize, const L: usize, const M: usize
     let c_light = settings.c_light();
     let c_bsdf = 1.0 - c_light;
     // The multi-sample formulas with n_i replaced by c_i, for one sample of one technique.
-    if sampler.next_f32() < c_light {
-        if let Some(s) = light_sample(scene, settings, at, sampler) {
-            add_light_sample(&mut by_light, method, &s, c_light, c_bsdf);
+    scene.with_rays_from(at.x.point.p, |from_x| {
+        if sampler.next_f32() < c_light {
+            if let Some(s) = light_sample(scene, settings, at, from_x, sampler) {
+                add_light_sample(&mut by_light, method, &s, c_light, c_bsdf);
+            }
+        } else {
+            bsdf_sample(scene, settings, at, from_x, sampler, |s| {
+                add_bsdf_sample(&mut by_bsdf, method, &s, c_light, c_bsdf)
+            });
         }
-    } else {
-        bsdf_sample(scene, settings, at, sampler, |s| {
-            add_bsdf_sample(&mut by_bsdf, method, &s, c_light, c_bsdf)
-        });
-    }
+    });
     (by_light, by_bsdf)
 }
 
@@ -269,7 +273,8 @@ impl<'a, const L: usize> Shading<'a, L> {
     #[inline]
     fn analytic(&self, light: LightId) -> bool {
         let i = light.index();
-        i < 64 && self.covered & (1 << i) != 0
+        // (`covered` is 0 without the control variate: skip the 64-bit shift then.)
+        self.control_variate && i < 64 && self.covered & (1 << i) != 0
     }
 }
 
@@ -299,10 +304,10 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
     at: &Shading<'_, L>,
+    from_x: &PointRays<S>,
     sampler: &mut Sampler,
 ) -> Option<Found> {
     let lights = light_sampler(scene, settings);
-    let p = at.x.point.p;
     // One 2-D request: its first number chooses the light and, rescaled, places the point.
     let (u_select, v) = sampler.next_2d_reusable();
     let (chosen, u) = lights.select_reusing(&at.selection, u_select)?;
@@ -314,8 +319,7 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
     if f == Rgb::ZERO || ls.radiance == Rgb::ZERO {
         return None;
     }
-    let shadow = Ray { origin: p, dir: ls.wi };
-    let visible = scene.unoccluded(&shadow, ls.distance, at.x.object, ls.emitter);
+    let visible = scene.unoccluded_from(from_x, ls.wi, ls.distance, at.x.object, ls.emitter);
     let value = match (at.analytic(chosen.light), visible) {
         (false, true) => f * ls.radiance,
         (true, false) => -(f * ls.radiance),
@@ -333,38 +337,40 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
     at: &Shading<'_, L>,
+    from_x: &PointRays<S>,
     sampler: &mut Sampler,
     mut found: impl FnMut(Found),
 ) {
-    let lights = light_sampler(scene, settings);
-    let p = at.x.point.p;
     let Some(bs) = at.bsdf.sample(at.wo, sampler.next_2d()) else { return };
-    let ray = Ray { origin: p, dir: at.frame.to_world(bs.wi) };
+    let wi = at.frame.to_world(bs.wi);
     // The weight needs p_b as a function of the direction, the same function the light
     // technique's weight used (`eval_pdf`), so the two weights of a direction sum to one
     // exactly. (`bs.pdf`, from the sampled half vector, can differ from it by rounding at
     // grazing near-mirror angles; the sample's f / p_b, `bs.weight`, uses the exact one.)
     let pdf = || at.bsdf.pdf(at.wo, bs.wi);
+    // The light technique's pdf of the direction to y on `light`: p_l = P(light) p_w(wi | light).
+    let light_pdf = |light, y: &Hit| {
+        let lights = light_sampler(scene, settings);
+        lights.pmf(&at.selection, light) * lights.pdf(light, &at.point, &y.point)
+    };
     if !at.control_variate {
-        let Some((y, light, radiance)) = scene.emitter_hit(&ray, at.x.object) else { return };
+        let Some((y, light, radiance)) = scene.emitter_hit_from(from_x, wi, at.x.object) else { return };
         if radiance == Rgb::ZERO {
             return;
         }
-        let pdf = pdf();
-        let pdf_other = lights.pmf(&at.selection, light) * lights.pdf(light, &at.point, &y.point);
+        let (pdf, pdf_other) = (pdf(), light_pdf(light, &y));
         found(Found { value: bs.weight * radiance, pdf, pdf_other, delta: false });
         return;
     }
     let pdf = pdf();
-    scene.emitters_along(&ray, at.x.object, |y, light, radiance, visible| {
+    scene.emitters_along_from(from_x, wi, at.x.object, |y, light, radiance, visible| {
         let value = match (at.analytic(light), visible) {
             (false, true) => bs.weight * radiance,
             (true, false) => -(bs.weight * radiance),
             (false, false) | (true, true) => return,
         };
         if radiance != Rgb::ZERO {
-            let pdf_other = lights.pmf(&at.selection, light) * lights.pdf(light, &at.point, &y.point);
-            found(Found { value, pdf, pdf_other, delta: false });
+            found(Found { value, pdf, pdf_other: light_pdf(light, &y), delta: false });
         }
     });
 }

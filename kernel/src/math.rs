@@ -11,6 +11,12 @@ pub const PI: f32 = core::f32::consts::PI;
 /// 1 / pi in f32.
 pub const INV_PI: f32 = core::f32::consts::FRAC_1_PI;
 
+/// True where every f32 operation is a call into a soft-float routine (microcontrollers without
+/// an FPU: Cortex-M0, RV32IMC): there, work shared between rays pays for the loads and stores it
+/// needs.
+pub const SOFT_FLOAT: bool =
+    cfg!(all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f")));
+
 /// Correctly rounded square root. On hard-float Arm cores this is the FPU's `vsqrt.f32`; elsewhere
 /// libm's `sqrtf` (software on Cortex-M0, `sqrtss` on x86). IEEE 754 requires the square root to
 /// be correctly rounded, so every path gives the same bits.

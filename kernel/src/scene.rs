@@ -6,7 +6,7 @@
 
 use heapless::Vec;
 
-use crate::accel::{self, Filter, Packets};
+use crate::accel::{CameraRays, Filter, Packets, PointRays, RaysFrom, Target};
 use crate::camera::{Camera, CameraDesc, Film};
 use crate::error::{Collection, SceneError};
 use crate::ids::{LightId, MaterialId, ShapeId};
@@ -23,6 +23,17 @@ pub struct Object {
     pub shape: Shape,
     material: MaterialId,
     light: Option<LightId>,
+}
+
+impl Target for Object {
+    #[inline]
+    fn shape(&self) -> &Shape {
+        &self.shape
+    }
+    #[inline]
+    fn emits(&self) -> bool {
+        self.light.is_some()
+    }
 }
 
 /// The first surface a ray meets.
@@ -44,8 +55,11 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     camera: Camera,
     film: Film,
     objects: Vec<Object, S>,
-    /// The shapes again, four to a packet, for ray queries (hosted targets only).
+    /// The shapes again, four to a packet, for ray queries (hosted targets; microcontrollers
+    /// keep only the span of the emitters' indices there).
     packets: Packets<S>,
+    /// The camera's rays, with the origin terms of every object on microcontrollers.
+    camera_rays: CameraRays<S>,
     materials: Vec<Material, M>,
     lights: Vec<Light, L>,
     light_power: Vec<f32, L>,
@@ -61,6 +75,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     pub fn new(camera: CameraDesc, film: Film) -> Result<Self, SceneError> {
         Ok(Self {
             camera: Camera::new(camera, film)?,
+            camera_rays: CameraRays::new(camera.origin),
             film,
             objects: Vec::new(),
             packets: Packets::default(),
@@ -95,6 +110,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             .push(Object { shape, material, light: None })
             .map_err(|_| SceneError::CapacityExceeded(Collection::Shapes))?;
         self.packets.push(usize::from(id), &shape);
+        self.camera_rays.push(&shape);
         Ok(ShapeId::new(id))
     }
 
@@ -188,27 +204,33 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// The nearest hit in `(t_min, t_max)`, ignoring object `skip`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, skip: Option<ShapeId>) -> Option<Hit> {
-        let skip = skip.map_or(usize::MAX, ShapeId::index);
-        if accel::ENABLED {
-            let (t, i) = self.packets.nearest(ray, t_min, t_max, Filter::AllBut(skip), |i| self.shape(i))?;
-            return self.hit(ray, t, i);
+        // A camera ray (the camera's origin, bit for bit) takes the terms the scene keeps.
+        if self.camera_rays.start_at(ray.origin) {
+            return self.intersect_from(&self.camera_rays, ray.dir, t_min, t_max, skip);
         }
-        let (mut t_far, mut best) = (t_max, usize::MAX);
-        for (i, o) in self.objects.iter().enumerate() {
-            if i != skip {
-                if let Some(t) = o.shape.intersect(ray, t_min, t_far) {
-                    t_far = t;
-                    best = i;
-                }
-            }
-        }
-        self.hit(ray, t_far, best)
+        self.with_rays_from(ray.origin, |from| self.intersect_from(from, ray.dir, t_min, t_max, skip))
     }
 
-    /// The shape of object `object`.
+    /// [`Scene::intersect`] for the ray from `from` along `dir`.
     #[inline]
-    fn shape(&self, object: usize) -> Option<&Shape> {
-        self.objects.get(object).map(|o| &o.shape)
+    fn intersect_from<const K: bool>(
+        &self,
+        from: &RaysFrom<S, K>,
+        dir: Vec3,
+        t_min: f32,
+        t_max: f32,
+        skip: Option<ShapeId>,
+    ) -> Option<Hit> {
+        let skip = skip.map_or(usize::MAX, ShapeId::index);
+        let (t, i) = self.packets.nearest(from, dir, t_min, t_max, Filter::AllBut(skip), &self.objects)?;
+        self.hit(&from.ray(dir), t, i)
+    }
+
+    /// `f` of the rays from the point `origin` (a shading point's shadow and BSDF rays), for
+    /// the queries that take them.
+    #[inline(always)]
+    pub(crate) fn with_rays_from<R>(&self, origin: Vec3, f: impl FnOnce(&PointRays<S>) -> R) -> R {
+        PointRays::with(origin, self.objects.iter().map(|o| &o.shape), f)
     }
 
     /// The [`Hit`] record for object `object` at distance `t` along `ray`.
@@ -227,36 +249,27 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// runs up to it, so rays that miss every light test only the emitters.
     #[inline]
     pub fn emitter_hit(&self, ray: &Ray, skip: ShapeId) -> Option<(Hit, LightId, Rgb)> {
+        self.with_rays_from(ray.origin, |from| self.emitter_hit_from(from, ray.dir, skip))
+    }
+
+    /// [`Scene::emitter_hit`] for the ray from `from` along `dir`.
+    #[inline]
+    pub(crate) fn emitter_hit_from(
+        &self,
+        from: &PointRays<S>,
+        dir: Vec3,
+        skip: ShapeId,
+    ) -> Option<(Hit, LightId, Rgb)> {
         let skip = skip.index();
-        let (mut t_far, mut best) = (f32::INFINITY, usize::MAX);
-        if accel::ENABLED {
-            let shape = |i| self.shape(i);
-            (t_far, best) = self.packets.nearest(ray, 0.0, t_far, Filter::EmittersBut(skip), shape)?;
-        } else {
-            for (i, o) in self.objects.iter().enumerate() {
-                if o.light.is_some() && i != skip {
-                    if let Some(t) = o.shape.intersect(ray, 0.0, t_far) {
-                        t_far = t;
-                        best = i;
-                    }
-                }
-            }
-        }
-        let hit = self.hit(ray, t_far, best)?;
+        let emitters = Filter::EmittersBut(skip);
+        let (t, best) = self.packets.nearest(from, dir, 0.0, f32::INFINITY, emitters, &self.objects)?;
+        let hit = self.hit(&from.ray(dir), t, best)?;
         if !hit.front {
             return None; // the back of an emitter: it emits nothing this way
         }
         // Anything else in front of it? (Emitters were already compared above.)
-        if accel::ENABLED {
-            if self.packets.any(ray, 0.0, t_far, Filter::OthersBut(skip), |i| self.shape(i)) {
-                return None;
-            }
-        } else {
-            for (i, o) in self.objects.iter().enumerate() {
-                if o.light.is_none() && i != skip && o.shape.intersect(ray, 0.0, t_far).is_some() {
-                    return None;
-                }
-            }
+        if self.packets.any(from, dir, 0.0, t, Filter::OthersBut(skip), &self.objects) {
+            return None;
         }
         let light = self.objects.get(best)?.light?;
         match self.lights.get(light.index())? {
@@ -269,15 +282,28 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// hit, the light, its radiance, and whether it is the first surface on the ray (visible).
     /// For the control variate, which needs the lights behind occluders too.
     #[inline]
-    pub fn emitters_along(&self, ray: &Ray, skip: ShapeId, mut f: impl FnMut(Hit, LightId, Rgb, bool)) {
-        let nearest = self.intersect(ray, 0.0, f32::INFINITY, Some(skip)).map(|h| h.object);
+    pub fn emitters_along(&self, ray: &Ray, skip: ShapeId, f: impl FnMut(Hit, LightId, Rgb, bool)) {
+        self.with_rays_from(ray.origin, |from| self.emitters_along_from(from, ray.dir, skip, f));
+    }
+
+    /// [`Scene::emitters_along`] for the ray from `from` along `dir`.
+    #[inline]
+    pub(crate) fn emitters_along_from(
+        &self,
+        from: &PointRays<S>,
+        dir: Vec3,
+        skip: ShapeId,
+        mut f: impl FnMut(Hit, LightId, Rgb, bool),
+    ) {
+        let ray = from.ray(dir);
+        let nearest = self.intersect_from(from, dir, 0.0, f32::INFINITY, Some(skip)).map(|h| h.object);
         for (i, o) in self.objects.iter().enumerate() {
             let Some(light) = o.light else { continue };
             if i == skip.index() {
                 continue;
             }
-            let Some(t) = o.shape.intersect(ray, 0.0, f32::INFINITY) else { continue };
-            let Some(hit) = self.hit(ray, t, i).filter(|h| h.front) else { continue };
+            let Some(t) = o.shape.intersect(&ray, 0.0, f32::INFINITY) else { continue };
+            let Some(hit) = self.hit(&ray, t, i).filter(|h| h.front) else { continue };
             if let Some(Light::Area { radiance, .. }) = self.lights.get(light.index()) {
                 f(hit, light, *radiance, nearest == Some(hit.object));
             }
@@ -287,16 +313,21 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// True when nothing but objects `a` and `b` lies on the ray before `t_max`.
     #[inline]
     pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: ShapeId, b: Option<ShapeId>) -> bool {
-        let (a, b) = (a.index(), b.map_or(usize::MAX, ShapeId::index));
-        if accel::ENABLED {
-            return !self.packets.any(ray, 0.0, t_max, Filter::AllButTwo(a, b), |i| self.shape(i));
-        }
-        for (i, o) in self.objects.iter().enumerate() {
-            if i != a && i != b && o.shape.intersect(ray, 0.0, t_max).is_some() {
-                return false;
-            }
-        }
-        true
+        self.with_rays_from(ray.origin, |from| self.unoccluded_from(from, ray.dir, t_max, a, b))
+    }
+
+    /// [`Scene::unoccluded`] for the ray from `from` along `dir`.
+    #[inline]
+    pub(crate) fn unoccluded_from(
+        &self,
+        from: &PointRays<S>,
+        dir: Vec3,
+        t_max: f32,
+        a: ShapeId,
+        b: Option<ShapeId>,
+    ) -> bool {
+        let others = Filter::AllButTwo(a.index(), b.map_or(usize::MAX, ShapeId::index));
+        !self.packets.any(from, dir, 0.0, t_max, others, &self.objects)
     }
 }
 

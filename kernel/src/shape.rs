@@ -37,6 +37,8 @@ pub struct SurfacePoint {
 pub struct Sphere {
     center: Vec3,
     radius: f32,
+    /// `radius * radius`, as the intersection test squares it.
+    r2: f32,
 }
 
 /// A parallelogram `p0 + s e1 + t e2`, (s, t) in [0, 1]^2, front side along `e1 x e2`.
@@ -55,6 +57,25 @@ pub struct Quad {
     area: f32,
 }
 
+/// The terms of a ray-shape test that depend on the ray's origin alone
+/// ([`Shape::origin_terms`]): rays that share an origin (every camera ray; the shadow and BSDF
+/// rays of one shading point) compute them once.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct OriginTerms(Terms);
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Terms {
+    /// `f = o - center`, `c = |f|^2 - r^2`, and the bound `g` of the early reject.
+    Sphere { f: Vec3, c: f32, g: f32 },
+    /// `plane - n . o`: the hit distance's numerator.
+    Quad { num: f32 },
+}
+
+/// The early sphere reject's margin, relative to |f|^2 (see [`Shape::intersect_from`]).
+const REJECT_MARGIN: f32 = 1.0 / 4096.0;
+/// Below this |f|^2 (2^-60) the sphere reject is off: rounding there need not be relative.
+const REJECT_MIN_F2: f32 = f32::from_bits((127 - 60) << 23);
+
 /// A rectangular quad in the form [`Shape::as_rectangle`] gives.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rectangle {
@@ -70,7 +91,66 @@ pub struct Rectangle {
     pub lengths: Vec2,
 }
 
+impl Sphere {
+    /// The rest of the ray test from `f = o - center` and `b = f . d` on, with `c` giving
+    /// `|f|^2 - r^2` (only needed when the line meets the sphere). Numerically robust form
+    /// (Haines et al., Ray Tracing Gems, ch. 7).
+    #[inline(always)]
+    fn hit(
+        &self,
+        f: Vec3,
+        b: f32,
+        c: impl FnOnce() -> f32,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<f32> {
+        let l = f - ray.dir * b;
+        let disc = self.r2 - l.length_squared();
+        if disc < 0.0 {
+            return None;
+        }
+        let c = c();
+        let q = -b - sqrt(disc).copysign(b);
+        let (t0, t1) = if q != 0.0 { (c / q, q) } else { (0.0, 0.0) };
+        let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        if near > t_min && near < t_max {
+            Some(near)
+        } else if far > t_min && far < t_max {
+            Some(far)
+        } else {
+            None
+        }
+    }
+}
+
 impl Quad {
+    /// The rest of the ray test from `num = plane - n . o` on, the hit distance's numerator.
+    /// When `num` and the denominator `n . d` differ in sign, t = num / denom is negative or -0
+    /// (a NaN `num` gives a NaN t), never above a t_min >= +0: that case skips the division
+    /// (an exact early reject).
+    #[inline(always)]
+    fn hit(&self, num: f32, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let denom = self.n.dot(ray.dir);
+        if denom == 0.0 || (num.is_sign_negative() != denom.is_sign_negative() && !t_min.is_sign_negative()) {
+            return None;
+        }
+        self.hit_at(num / denom, ray, t_min, t_max)
+    }
+
+    /// The end of the ray test: the plane is met at distance `t`; is it in range, and the point
+    /// inside?
+    #[inline(always)]
+    fn hit_at(&self, t: f32, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        if !(t > t_min && t < t_max) {
+            return None;
+        }
+        let d = ray.at(t) - self.p0;
+        let s = d.dot(self.s_axis);
+        let v = d.dot(self.t_axis);
+        ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&v)).then_some(t)
+    }
+
     /// Unit normal, plane offset `n . p0`, corner `p0`, and the dual axes.
     #[cfg_attr(target_os = "none", allow(dead_code))]
     pub(crate) fn parts(&self) -> (Vec3, f32, Vec3, Vec3, Vec3) {
@@ -102,7 +182,7 @@ impl Shape {
         if radius <= 0.0 {
             return Err(SceneError::NonPositive(Field::Radius));
         }
-        Ok(Shape::Sphere(Sphere { center, radius }))
+        Ok(Shape::Sphere(Sphere { center, radius, r2: radius * radius }))
     }
 
     /// A parallelogram from its four corners in order (`p2` must equal `p1 + p3 - p0`).
@@ -151,45 +231,78 @@ impl Shape {
     }
 
     /// Distance to the nearest hit in `(t_min, t_max)`, either side of the surface.
-    #[inline]
+    #[inline(never)]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        self.intersect_inlined(ray, t_min, t_max)
+    }
+
+    /// [`Shape::intersect`], inlined into the loops of the ray queries.
+    #[inline(always)]
+    pub(crate) fn intersect_inlined(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         match self {
             Shape::Sphere(s) => {
-                // Numerically robust form (Haines et al., Ray Tracing Gems, ch. 7).
                 let f = ray.origin - s.center;
+                s.hit(f, f.dot(ray.dir), || f.length_squared() - s.r2, ray, t_min, t_max)
+            }
+            Shape::Quad(q) => q.hit(q.plane - q.n.dot(ray.origin), ray, t_min, t_max),
+        }
+    }
+
+    /// The terms of [`Shape::intersect`] that depend on the ray's origin alone, for
+    /// [`Shape::intersect_from`].
+    #[inline]
+    pub(crate) fn origin_terms(&self, origin: Vec3) -> OriginTerms {
+        OriginTerms(match self {
+            Shape::Sphere(s) => {
+                let f = origin - s.center;
+                let f2 = f.length_squared();
+                let c = f2 - s.r2;
+                // The bound of the early reject (see `intersect_from`); 0 rejects nothing.
+                let g = if f2 >= REJECT_MIN_F2 { c - f2 * REJECT_MARGIN } else { 0.0 };
+                Terms::Sphere { f, c, g }
+            }
+            Shape::Quad(q) => Terms::Quad { num: q.plane - q.n.dot(origin) },
+        })
+    }
+
+    /// [`Shape::intersect`] with the terms `self.origin_terms(ray.origin)` computed beforehand
+    /// (once for all the rays from one origin), and, for spheres, two early rejects they make
+    /// cheap; terms of another shape give `None`.
+    ///
+    /// The rejects only ever reject rays the full test would reject too, so the result is that
+    /// of [`Shape::intersect`], bit for bit (u = 2^-24, and the direction is a unit vector:
+    /// | |d|^2 - 1 | <= 2^-16):
+    /// - **the line passes far from the centre** (conservative): `b * b < g` with
+    ///   g = c - 2^-12 |f|^2 gives b^2 < |f|^2 - r^2 - (2^-12 - 9u) |f|^2. The dot product's
+    ///   error |b - f.d| <= 3u |f| |d| then puts the line's squared distance to the centre,
+    ///   |f|^2 - (f.d)^2 / |d|^2, above r^2 + (2^-12 - 2^-15 - 16u) |f|^2, and the computed
+    ///   |l|^2 (each component off by at most u (|d b| + |l|)) stays above r^2: the full test's
+    ///   disc = r^2 - |l|^2 is negative. Below |f|^2 = 2^-60 (where rounding of subnormals is
+    ///   not relative) and for non-finite terms (g NaN) it rejects nothing;
+    /// - **the sphere lies behind the origin** (exact): with b > 0 the full test computes
+    ///   q = -b - sqrt(disc) <= -b < 0 (rounding is monotonic), so t1 = q < 0, and
+    ///   t0 = c / q <= -0 when c > 0: neither exceeds a t_min >= +0.
+    ///
+    /// `shape::tests` checks them against the test without them on random rays.
+    #[cfg_attr(not(target_os = "none"), allow(dead_code))]
+    #[inline(always)]
+    pub(crate) fn intersect_from(
+        &self,
+        terms: &OriginTerms,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<f32> {
+        match (self, &terms.0) {
+            (Shape::Sphere(s), &Terms::Sphere { f, c, g }) => {
                 let b = f.dot(ray.dir);
-                let l = f - ray.dir * b;
-                let r2 = s.radius * s.radius;
-                let disc = r2 - l.length_squared();
-                if disc < 0.0 {
+                if b * b < g || (b > 0.0 && c > 0.0 && !t_min.is_sign_negative()) {
                     return None;
                 }
-                let c = f.length_squared() - r2;
-                let q = -b - sqrt(disc).copysign(b);
-                let (t0, t1) = if q != 0.0 { (c / q, q) } else { (0.0, 0.0) };
-                let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-                if near > t_min && near < t_max {
-                    Some(near)
-                } else if far > t_min && far < t_max {
-                    Some(far)
-                } else {
-                    None
-                }
+                s.hit(f, b, || c, ray, t_min, t_max)
             }
-            Shape::Quad(q) => {
-                let denom = q.n.dot(ray.dir);
-                if denom == 0.0 {
-                    return None;
-                }
-                let t = (q.plane - q.n.dot(ray.origin)) / denom;
-                if !(t > t_min && t < t_max) {
-                    return None;
-                }
-                let d = ray.at(t) - q.p0;
-                let s = d.dot(q.s_axis);
-                let v = d.dot(q.t_axis);
-                ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&v)).then_some(t)
-            }
+            (Shape::Quad(q), &Terms::Quad { num }) => q.hit(num, ray, t_min, t_max),
+            _ => None,
         }
     }
 
@@ -326,5 +439,140 @@ mod tests {
         let tiny = Shape::sphere(Vec3::new(0.0, 0.0, -1.0), 1e-6).unwrap();
         let t = tiny.intersect(&r, 0.0, 100.0).unwrap();
         assert!((t - 1.0).abs() < 1e-5);
+    }
+
+    /// `Shape::intersect` as it was before the early rejects: the reference they must match.
+    /// (Its sphere test has none; a quad's is the test without the sign reject.)
+    fn intersect_without_rejects(shape: &Shape, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        match shape {
+            Shape::Sphere(_) => shape.intersect(ray, t_min, t_max),
+            Shape::Quad(q) => {
+                let denom = q.n.dot(ray.dir);
+                if denom == 0.0 {
+                    return None;
+                }
+                q.hit_at((q.plane - q.n.dot(ray.origin)) / denom, ray, t_min, t_max)
+            }
+        }
+    }
+
+    /// How often each early reject fired, and the near calls around them.
+    #[derive(Debug, Default)]
+    struct RejectCounts {
+        far_line: u32,
+        behind: u32,
+        quad_behind: u32,
+        /// Misses the far-line reject let through (the margin at work).
+        missed_in_margin: u32,
+        /// Hits whose discriminant is within 1e-3 r^2 of zero (grazing rays).
+        grazing_hits: u32,
+    }
+
+    fn unit(rng: &mut crate::rng::Sampler) -> Vec3 {
+        crate::sampling::sample_uniform_sphere(rng.next_2d())
+    }
+
+    /// A random number in [-a, a] with a log-uniform magnitude in [a 2^-40, a].
+    fn spread(rng: &mut crate::rng::Sampler, a: f32) -> f32 {
+        let m = a / f32::from_bits((127 + (rng.next_u32() % 40)) << 23);
+        if rng.next_u32() & 1 == 0 { m } else { -m }
+    }
+
+    /// Rays built to graze, start on, inside or near the shape, or go anywhere, against the
+    /// test without the rejects: the same bits every time.
+    #[test]
+    fn early_rejects_never_change_a_result() {
+        let mut rng = crate::rng::Sampler::new(11, 0, 0);
+        let mut n = RejectCounts::default();
+        let mut hits = 0u32;
+        for case in 0..8000 {
+            let point = |rng: &mut crate::rng::Sampler, a: f32| {
+                Vec3::new(rng.next_f32() * 2.0 - 1.0, rng.next_f32() * 2.0 - 1.0, rng.next_f32() * 2.0 - 1.0)
+                    * a
+            };
+            let scale = f32::from_bits((127 + (rng.next_u32() % 24) - 12) << 23);
+            let shape = if case % 2 == 0 {
+                let r = scale * (0.001 + rng.next_f32());
+                Shape::sphere(point(&mut rng, 2.0 * scale), r).unwrap()
+            } else {
+                let (p0, e1, e2) =
+                    (point(&mut rng, 2.0 * scale), point(&mut rng, scale), point(&mut rng, scale));
+                match Shape::quad([p0, p0 + e1, p0 + e1 + e2, p0 + e2]) {
+                    Ok(q) => q,
+                    Err(_) => continue,
+                }
+            };
+            let (centre, extent) = (shape.centroid(), shape.bounding_radius());
+            for _ in 0..100 {
+                let origin = match rng.next_u32() % 4 {
+                    0 => centre + point(&mut rng, 8.0 * extent),
+                    // On the surface (as a shading point is), or just off it.
+                    1 => {
+                        shape.sample_area(rng.next_2d()).p + unit(&mut rng) * spread(&mut rng, extent * 1e-3)
+                    }
+                    2 => centre + point(&mut rng, 0.5 * extent),
+                    _ => centre + unit(&mut rng) * extent * (1.0 + spread(&mut rng, 4.0)),
+                };
+                let target = match (rng.next_u32() % 3, shape.as_sphere()) {
+                    // Just inside or outside the silhouette: a grazing ray.
+                    (0, Some((c, r))) => {
+                        let axis = crate::math::normalize_or(c - origin, Vec3::X);
+                        let side = crate::math::normalize_or(axis.cross(unit(&mut rng)), Vec3::Y);
+                        c + side * r * (1.0 + spread(&mut rng, 1e-2))
+                    }
+                    (0, None) => {
+                        shape.sample_area(rng.next_2d()).p + unit(&mut rng) * spread(&mut rng, extent)
+                    }
+                    (1, _) => centre + unit(&mut rng) * extent * rng.next_f32(),
+                    _ => origin + unit(&mut rng),
+                };
+                let Some(dir) = crate::math::try_normalize(target - origin) else { continue };
+                let ray = Ray { origin, dir };
+                let t_min = match rng.next_u32() % 6 {
+                    0 => -0.0,
+                    1 => -extent * rng.next_f32(),
+                    2 => extent * rng.next_f32(),
+                    _ => 0.0,
+                };
+                let t_max =
+                    if rng.next_u32() & 1 == 0 { f32::INFINITY } else { 4.0 * extent * rng.next_f32() };
+                let want = intersect_without_rejects(&shape, &ray, t_min, t_max);
+                let bits = |t: Option<f32>| t.map(f32::to_bits);
+                let got = shape.intersect(&ray, t_min, t_max);
+                assert_eq!(bits(got), bits(want), "{shape:?} {ray:?} {t_min} {t_max}");
+                let terms = shape.origin_terms(origin);
+                let got = shape.intersect_from(&terms, &ray, t_min, t_max);
+                assert_eq!(bits(got), bits(want), "from terms: {shape:?} {ray:?} {t_min} {t_max}");
+                hits += u32::from(want.is_some());
+                let positive = !t_min.is_sign_negative();
+                match (shape, terms.0) {
+                    (Shape::Sphere(s), Terms::Sphere { f, c, g }) => {
+                        let b = f.dot(dir);
+                        let disc = s.r2 - (f - dir * b).length_squared();
+                        if b * b < g {
+                            n.far_line += 1;
+                        } else if disc < 0.0 {
+                            n.missed_in_margin += 1;
+                        } else if b > 0.0 && c > 0.0 && positive {
+                            n.behind += 1;
+                        }
+                        if want.is_some() && disc < 1e-3 * s.r2 {
+                            n.grazing_hits += 1;
+                        }
+                    }
+                    (Shape::Quad(q), Terms::Quad { num }) => {
+                        let denom = q.n.dot(dir);
+                        if denom != 0.0 && num.is_sign_negative() != denom.is_sign_negative() && positive {
+                            n.quad_behind += 1;
+                        }
+                    }
+                    _ => unreachable!("terms of the shape's own kind"),
+                }
+            }
+        }
+        // Not vacuous: every reject fired often, rays came close to its boundary, many hit.
+        assert!(n.far_line > 30_000 && n.behind > 5_000 && n.quad_behind > 50_000, "{n:?}");
+        assert!(n.missed_in_margin > 300 && n.grazing_hits > 1_000, "{n:?}");
+        assert!(hits > 100_000, "{hits}");
     }
 }
