@@ -590,17 +590,19 @@ mod tests {
     fn uniform_indices_split_the_bits_into_index_and_remainder() {
         for n in [1usize, 3, 5, 32] {
             let mut count = [0u32; 32];
-            let mut sum = [0.0f64; 32];
+            // Sums of the reused numbers in units of 2^-24 (exact: they lie on that grid).
+            let mut sum = [0u64; 32];
             for j in 0..(1u32 << 16) {
                 let s = sample_uniform_index(j << 16 | 0x8000, n).unwrap();
                 assert!(s.index < n && (0.0..1.0).contains(&s.reused) && s.probability == 1.0 / n as f32);
                 count[s.index] += 1;
-                sum[s.index] += f64::from(s.reused);
+                sum[s.index] += (s.reused * 16_777_216.0) as u64;
             }
             for i in 0..n {
-                let share = f64::from(count[i]) / 65536.0;
-                assert!((share * n as f64 - 1.0).abs() < 1e-3, "n {n}, entry {i}: {share}");
-                assert!((sum[i] / f64::from(count[i]) - 0.5).abs() < 1e-3, "n {n}, entry {i}");
+                // Share 1/n within 1e-3, and mean reused number 1/2 within 1e-3.
+                let (c, n64) = (u64::from(count[i]), n as u64);
+                assert!((c * n64).abs_diff(65_536) * 1000 < 65_536, "n {n}, entry {i}: {c}");
+                assert!((2 * sum[i]).abs_diff(c << 24) * 500 < c << 24, "n {n}, entry {i}");
             }
         }
         assert_eq!(sample_uniform_index(7, 0), None);
@@ -623,16 +625,18 @@ mod tests {
         }
         assert_eq!(counts.iter().sum::<u32>(), GRID);
         // Reuse: within each entry's run the rescaled bits are evenly spread over [0, 1).
-        let mut sums = [0.0f64; 6];
+        // Sums in units of 2^-24 (exact: the rescaled numbers lie on that grid).
+        let mut sums = [0u64; 6];
         for k in 0..GRID {
             let s = d.sample_reusing(k << 8 | 0x80).unwrap();
             assert!((0.0..1.0).contains(&s.reused), "{s:?}");
             assert_eq!((s.index, s.probability), d.sample(k as f32 / GRID as f32).unwrap());
-            sums[s.index] += f64::from(s.reused);
+            sums[s.index] += (s.reused * 16_777_216.0) as u64;
         }
         for (i, sum) in sums.iter().enumerate() {
-            let n = f64::from(counts[i]);
-            assert!(n == 0.0 || (sum / n - 0.5).abs() < 1e-6, "entry {i}: mean {}", sum / n);
+            // Mean 1/2 within 1e-6.
+            let n = u64::from(counts[i]);
+            assert!(n == 0 || (2 * sum).abs_diff(n << 24) * 500_000 < n << 24, "entry {i}: sum {sum} of {n}");
         }
         assert!(GridDistribution::<2>::new(&[0.0, -1.0]).is_empty());
         assert!(GridDistribution::<2>::new(&[f32::INFINITY, 1.0]).is_empty());
