@@ -6,11 +6,14 @@
 //! run under `valgrind --tool=callgrind` for instruction counts per camera sample:
 //!
 //! `cargo run --release -p picomis-bench --example per_sample -- veach_mis sobol 4 [solid-angle [balance]]`
+//!
+//! The environment variable `PICOMIS_LIGHT_SELECTION` (uniform, power, contribution) overrides
+//! the scene's light selection.
 
 use std::hint::black_box;
 use std::time::Instant;
 
-use picomis::{Method, QuadSampling, RenderSettings, SamplerKind, camera_sample};
+use picomis::{LightSelection, Method, QuadSampling, RenderSettings, SamplerKind, camera_sample};
 use picomis_bench::{build, builtin_scenes, for_scene};
 use picomis_format::SceneFile;
 
@@ -20,6 +23,7 @@ fn run<const S: usize, const L: usize, const M: usize>(
     spp: u32,
     quads: Option<QuadSampling>,
     method: Option<Method>,
+    selection: Option<LightSelection>,
 ) {
     let scene = build::<S, L, M>(file);
     let mut settings = file.default_settings().expect("valid built-in settings").with_sampler(sampler);
@@ -33,6 +37,9 @@ fn run<const S: usize, const L: usize, const M: usize>(
             .with_light_selection(settings.light_selection())
             .with_sphere_sampling(settings.sphere_sampling())
             .with_quad_sampling(quads);
+    }
+    if let Some(selection) = selection {
+        settings = settings.with_light_selection(selection);
     }
     let film = scene.film();
     let start = Instant::now();
@@ -49,9 +56,10 @@ fn run<const S: usize, const L: usize, const M: usize>(
     let n = f64::from(spp) * f64::from(film.pixels());
     let ns = start.elapsed().as_secs_f64() * 1e9 / n;
     println!(
-        "{}: {} {spp} spp, quads {quads}, {}, {n} camera samples, {ns:.1} ns per camera sample, checksum {checksum:08x}",
+        "{}: {} {spp} spp, quads {quads}, lights by {}, {}, {n} camera samples, {ns:.1} ns per camera sample, checksum {checksum:08x}",
         file.name(),
         sampler.name(),
+        settings.light_selection().name(),
         settings.method()
     );
 }
@@ -63,10 +71,13 @@ fn main() {
     let spp = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(4);
     let quads = args.get(4).map(|s| QuadSampling::from_name(s).expect("a quad sampling name"));
     let method = args.get(5).map(|s| Method::from_name(s).expect("a method name"));
+    let selection = std::env::var("PICOMIS_LIGHT_SELECTION")
+        .ok()
+        .map(|s| LightSelection::from_name(&s).expect("a light selection name"));
     let files = builtin_scenes();
     let file = match files.iter().find(|f| f.name() == name) {
         Some(f) => f.clone(),
         None => SceneFile::load(std::path::Path::new(name)).expect("a built-in scene name or a scene file"),
     };
-    for_scene!(&file, run, sampler, spp, quads, method);
+    for_scene!(&file, run, sampler, spp, quads, method, selection);
 }

@@ -10,7 +10,7 @@
 //! keeps a non-zero probability, so selection by it stays unbiased.
 
 use crate::light::Light;
-use crate::material::Material;
+use crate::material::{Material, Outgoing};
 use crate::math::{Frame, PI, Vec3, clamp, finite3, luminance, max0, safe_sqrt, sqrt, try_normalize};
 use crate::shape::Shape;
 
@@ -35,54 +35,136 @@ pub struct LightCone {
 /// [`LightCone::sin_max`] of a cone of every direction.
 const EVERY_DIRECTION: f32 = 2.0;
 
-/// The cone of `light` (emitting from `shape` for area lights) seen from `x`; `None` where it
-/// certainly sends nothing to `x` (a point light at `x`, `x` inside or on a sphere light, or
-/// behind a quad light's plane) or the estimate is not finite. One square root and one division.
+/// What [`light_cone`] needs of a light, computed once when the scene is built
+/// ([`LightGeometry::new`]): the terms that do not depend on the shading point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightGeometry {
+    /// A point light.
+    Point {
+        /// Position.
+        position: Vec3,
+        /// Luminance of the intensity (at least 0).
+        luminance: f32,
+    },
+    /// A sphere light.
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius.
+        radius: f32,
+        /// Its square.
+        radius2: f32,
+        /// Luminance of the radiance (at least 0).
+        luminance: f32,
+    },
+    /// A quad light.
+    Quad {
+        /// Centroid.
+        centroid: Vec3,
+        /// Radius of the bounding sphere about the centroid.
+        radius: f32,
+        /// Its square.
+        radius2: f32,
+        /// Front normal.
+        normal: Vec3,
+        /// Area.
+        area: f32,
+        /// Luminance of the radiance (at least 0).
+        luminance: f32,
+    },
+    /// An area light without its shape: it sends nothing anywhere.
+    Dark,
+}
+
+impl LightGeometry {
+    /// The geometry of `light` (emitting from `shape` for area lights).
+    pub fn new(light: &Light, shape: Option<&Shape>) -> Self {
+        match (*light, shape) {
+            (Light::Point { position, intensity }, _) => {
+                LightGeometry::Point { position, luminance: max0(luminance(intensity)) }
+            }
+            (Light::Area { .. }, None) => LightGeometry::Dark,
+            (Light::Area { radiance, .. }, Some(shape)) => {
+                let luminance = max0(luminance(radiance));
+                let radius = shape.bounding_radius();
+                let radius2 = radius * radius;
+                match shape.as_sphere() {
+                    Some((center, _)) => LightGeometry::Sphere { center, radius, radius2, luminance },
+                    None => LightGeometry::Quad {
+                        centroid: shape.centroid(),
+                        radius,
+                        radius2,
+                        // A quad's normal is the same at every point.
+                        normal: shape.normal_at(shape.centroid()),
+                        area: shape.area(),
+                        luminance,
+                    },
+                }
+            }
+        }
+    }
+
+    /// The cone of the light seen from `x`; `None` where it certainly sends nothing to `x` (a
+    /// point light at `x`, `x` inside or on a sphere light, or behind a quad light's plane) or
+    /// the estimate is not finite. One square root and one division.
+    #[inline]
+    pub fn cone(&self, x: Vec3) -> Option<LightCone> {
+        let cone = match *self {
+            LightGeometry::Point { position, luminance } => {
+                let v = position - x;
+                let d2 = v.length_squared();
+                if !(d2 > 0.0) {
+                    return None;
+                }
+                let inv_d = 1.0 / sqrt(d2);
+                let strength = luminance * (inv_d * inv_d);
+                LightCone { axis: v * inv_d, sin_max: 0.0, strength, radiance: None }
+            }
+            LightGeometry::Sphere { center, radius, radius2, luminance } => {
+                let v = center - x;
+                let d2 = v.length_squared();
+                if !(d2 > radius2) {
+                    // Inside or on a sphere light: its outward front side faces away.
+                    return None;
+                }
+                let inv_d = 1.0 / sqrt(d2);
+                let sin_max = radius * inv_d;
+                let solid_angle = PI * (sin_max * sin_max);
+                let strength = luminance * solid_angle.min(2.0 * PI);
+                LightCone { axis: v * inv_d, sin_max, strength, radiance: Some(luminance) }
+            }
+            LightGeometry::Quad { centroid, radius, radius2, normal, area, luminance } => {
+                let v = centroid - x;
+                let d2 = v.length_squared();
+                let radiance = Some(luminance);
+                // A quad emits on the side of its normal only; `x` behind its plane sees none.
+                let facing = normal.dot(-v);
+                if !(facing > 0.0) {
+                    return None;
+                }
+                if d2 > radius2 {
+                    let inv_d = 1.0 / sqrt(d2);
+                    let sin_max = radius * inv_d;
+                    let solid_angle = (area * facing) * (inv_d * inv_d * inv_d);
+                    let strength = luminance * solid_angle.min(2.0 * PI);
+                    LightCone { axis: v * inv_d, sin_max, strength, radiance }
+                } else {
+                    // Within a quad's bounding sphere: up to the whole hemisphere.
+                    let axis = try_normalize(v).unwrap_or(Vec3::Z);
+                    LightCone { axis, sin_max: EVERY_DIRECTION, strength: luminance * 2.0 * PI, radiance }
+                }
+            }
+            LightGeometry::Dark => return None,
+        };
+        (cone.strength.is_finite() && finite3(cone.axis)).then_some(cone)
+    }
+}
+
+/// The cone of `light` (emitting from `shape` for area lights) seen from `x`
+/// ([`LightGeometry::cone`]).
 #[inline]
 pub fn light_cone(light: &Light, shape: Option<&Shape>, x: Vec3) -> Option<LightCone> {
-    let cone = match *light {
-        Light::Point { position, intensity } => {
-            let v = position - x;
-            let d2 = v.length_squared();
-            if !(d2 > 0.0) {
-                return None;
-            }
-            let inv_d = 1.0 / sqrt(d2);
-            let strength = max0(luminance(intensity)) * (inv_d * inv_d);
-            LightCone { axis: v * inv_d, sin_max: 0.0, strength, radiance: None }
-        }
-        Light::Area { radiance, .. } => {
-            let shape = shape?;
-            let le = max0(luminance(radiance));
-            let v = shape.centroid() - x;
-            let d2 = v.length_squared();
-            let r = shape.bounding_radius();
-            let radiance = Some(le);
-            let sphere = shape.as_sphere().is_some();
-            // A quad emits on the side of its normal only; `x` behind its plane sees none.
-            let facing = if sphere { 1.0 } else { shape.normal_at(x).dot(-v) };
-            if !(facing > 0.0) {
-                return None;
-            }
-            if d2 > r * r {
-                let inv_d = 1.0 / sqrt(d2);
-                let sin_max = r * inv_d;
-                let solid_angle = match sphere {
-                    true => PI * (sin_max * sin_max),
-                    false => (shape.area() * facing) * (inv_d * inv_d * inv_d),
-                };
-                LightCone { axis: v * inv_d, sin_max, strength: le * solid_angle.min(2.0 * PI), radiance }
-            } else if sphere {
-                // Inside or on a sphere light: its outward front side faces away.
-                return None;
-            } else {
-                // Within a quad's bounding sphere: up to the whole hemisphere.
-                let axis = try_normalize(v).unwrap_or(Vec3::Z);
-                LightCone { axis, sin_max: EVERY_DIRECTION, strength: le * 2.0 * PI, radiance }
-            }
-        }
-    };
-    (cone.strength.is_finite() && finite3(cone.axis)).then_some(cone)
+    LightGeometry::new(light, shape).cone(x)
 }
 
 /// The direction of the cone of `sin_max` around unit `axis` nearest to unit `t`: `t` itself
@@ -129,13 +211,42 @@ impl LightCone {
     /// be: not a bound (see [`weighs_bsdf`] for Lambertian receivers).
     #[inline]
     pub fn contribution(&self, bsdf: &Material, frame: &Frame, wo: Vec3) -> f32 {
-        let w = nearest_in_cone(frame.to_local(self.axis), self.sin_max, bsdf.lobe_axis(wo));
-        let estimate = self.strength * max0(luminance(bsdf.eval(wo, w)));
+        self.contribution_to(&Receiver::new(bsdf, frame, wo))
+    }
+
+    /// [`LightCone::contribution`] to `receiver`, whose terms are computed once for all lights.
+    #[inline]
+    pub fn contribution_to(&self, receiver: &Receiver) -> f32 {
+        let w = nearest_in_cone(receiver.frame.to_local(self.axis), self.sin_max, receiver.lobe);
+        let estimate = self.strength * max0(luminance(receiver.bsdf.eval(w)));
         let estimate = match self.radiance {
-            Some(le) => estimate.min(le * max0(luminance(bsdf.albedo_bound()))),
+            Some(le) => estimate.min(le * receiver.albedo),
             None => estimate,
         };
         if estimate.is_finite() { estimate } else { 0.0 }
+    }
+}
+
+/// A receiver as [`LightCone::contribution_to`] sees it: its frame, its BSDF seen from `wo`,
+/// the lobe axis and the luminance of the albedo bound.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Receiver {
+    frame: Frame,
+    bsdf: Outgoing,
+    lobe: Vec3,
+    albedo: f32,
+}
+
+impl Receiver {
+    /// The receiver with `bsdf` in `frame` seen from `wo` (local).
+    #[inline]
+    pub fn new(bsdf: &Material, frame: &Frame, wo: Vec3) -> Self {
+        Receiver {
+            frame: *frame,
+            bsdf: bsdf.seen_from(wo),
+            lobe: bsdf.lobe_axis(wo),
+            albedo: max0(luminance(bsdf.albedo_bound())),
+        }
     }
 }
 
@@ -234,7 +345,7 @@ mod tests {
 
     #[test]
     fn the_bsdf_weighs_the_light_nearest_its_lobe() {
-        use crate::material::Material;
+        use crate::material::{Material, Outgoing};
         // A near-mirror receiver at the origin; wo mirrors to the direction of light a.
         let wo_world = Vec3::new(-1.0, 1.0, 0.0).normalize();
         let frame = Frame::from_normal(Vec3::Y);

@@ -13,7 +13,7 @@
 
 use crate::ids::{LightId, ShapeId};
 use crate::light::Light;
-use crate::light_importance::{light_cone, weighs_bsdf};
+use crate::light_importance::{Receiver, weighs_bsdf};
 use crate::material::Material;
 use crate::math::{Frame, Rgb, Vec2, Vec3, max0, safe_sqrt, sqrt};
 use crate::sampling::{
@@ -242,24 +242,24 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         if !self.selects_locally() {
             return SelectionAt { local: GridDistribution::default() };
         }
-        let lights = self.scene.lights();
+        let lights = self.scene.light_geometry();
         let n = lights.len().min(L);
         // The BSDF's part, if it has one: in the receiver's frame.
-        let bsdf = weighs_bsdf(&at.bsdf).then(|| {
+        let receiver = weighs_bsdf(&at.bsdf).then(|| {
             let frame = Frame::from_normal(at.n);
-            (frame, frame.to_local(at.wo))
+            Receiver::new(&at.bsdf, &frame, frame.to_local(at.wo))
         });
         let (mut importance, mut contribution) = ([0.0f32; L], [0.0f32; L]);
         for (k, light) in lights.iter().enumerate().take(n) {
-            if let Some(cone) = light_cone(light, self.scene.light_shape(light), at.p) {
+            if let Some(cone) = light.cone(at.p) {
                 importance[k] = cone.importance(at.n);
-                if let Some((frame, wo)) = &bsdf {
-                    contribution[k] = cone.contribution(&at.bsdf, frame, *wo);
+                if let Some(receiver) = &receiver {
+                    contribution[k] = cone.contribution_to(receiver);
                 }
             }
         }
         let importance = &mut importance[..n];
-        if bsdf.is_some() {
+        if receiver.is_some() {
             // The mixture (1 - floor) c_k / sum c + floor i_k / sum i, each part where it has a sum.
             let sum = |w: &[f32]| w.iter().sum::<f32>();
             let (total_i, total_c) = (sum(importance), sum(&contribution[..n]));

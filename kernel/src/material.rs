@@ -106,10 +106,48 @@ impl Material {
     /// f(wo, wi) cos(theta_i) and the pdf of `wi`, sharing the half vector, D and G1(wo).
     #[inline]
     pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Rgb, f32) {
+        self.seen_from(wo).eval_pdf(wi)
+    }
+
+    /// The material seen from `wo`: what f cos and the pdf need of `wo` alone, computed once
+    /// for many `wi`.
+    #[inline]
+    pub fn seen_from(&self, wo: Vec3) -> Outgoing {
+        let g1_wo = match *self {
+            Material::Lambertian { .. } => 0.0,
+            Material::GgxConductor { alpha, .. } => ggx_g1(wo, alpha),
+        };
+        Outgoing { material: *self, wo, g1_wo }
+    }
+
+    /// Draws `wi` for the given `wo`: cosine-weighted (Lambertian) or visible normals (GGX).
+    /// `None` when the draw leaves the upper hemisphere or `wo` is below it.
+    #[inline]
+    pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+        self.seen_from(wo).sample(u)
+    }
+}
+
+/// A material seen from one `wo` ([`Material::seen_from`]): [`Outgoing::eval_pdf`] gives
+/// [`Material::eval_pdf`] for any `wi`, bit for bit, without recomputing the terms of `wo`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Outgoing {
+    material: Material,
+    /// Local direction towards the viewer.
+    wo: Vec3,
+    /// G1(wo) (GGX; 0 for Lambertian, which has none).
+    g1_wo: f32,
+}
+
+impl Outgoing {
+    /// f(wo, wi) cos(theta_i) and the pdf of `wi`, sharing the half vector, D and G1(wo).
+    #[inline]
+    pub fn eval_pdf(&self, wi: Vec3) -> (Rgb, f32) {
+        let wo = self.wo;
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return (Rgb::ZERO, 0.0);
         }
-        match *self {
+        match self.material {
             Material::Lambertian { albedo } => (albedo * (INV_PI * wi.z), cosine_hemisphere_pdf(wi.z)),
             Material::GgxConductor { alpha, reflectance } => {
                 let Some(m) = try_normalize(wo + wi) else {
@@ -117,7 +155,7 @@ impl Material {
                 };
                 // Both directions are above the horizon, so wo.m = wi.m > 0 and m.z > 0.
                 let d = ggx_d(m, alpha);
-                let g1_wo = ggx_g1(wo, alpha);
+                let g1_wo = self.g1_wo;
                 // f cos_i = R D G1(wi) G1(wo) / (4 cos_o).
                 let f = reflectance * (d * g1_wo * ggx_g1(wi, alpha) / (4.0 * wo.z));
                 // Visible normals, times the reflection Jacobian 1 / (4 wo.m):
@@ -128,14 +166,27 @@ impl Material {
         }
     }
 
-    /// Draws `wi` for the given `wo`: cosine-weighted (Lambertian) or visible normals (GGX).
-    /// `None` when the draw leaves the upper hemisphere or `wo` is below it.
+    /// f(wo, wi) cos(theta_i).
     #[inline]
-    pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+    pub fn eval(&self, wi: Vec3) -> Rgb {
+        self.eval_pdf(wi).0
+    }
+
+    /// Pdf per unit solid angle with which [`Material::sample`] draws `wi`.
+    #[inline]
+    pub fn pdf(&self, wi: Vec3) -> f32 {
+        self.eval_pdf(wi).1
+    }
+
+    /// Draws `wi`: cosine-weighted (Lambertian) or visible normals (GGX). `None` when the draw
+    /// leaves the upper hemisphere or `wo` is below it.
+    #[inline]
+    pub fn sample(&self, u: Vec2) -> Option<BsdfSample> {
+        let wo = self.wo;
         if wo.z <= 0.0 {
             return None;
         }
-        match *self {
+        match self.material {
             Material::Lambertian { albedo } => {
                 let wi = sample_cosine_hemisphere(u);
                 let pdf = cosine_hemisphere_pdf(wi.z);
@@ -153,7 +204,7 @@ impl Material {
                     return None;
                 }
                 // The same expression as `eval_pdf`, so both techniques' weights see equal pdfs.
-                let pdf = ggx_g1(wo, alpha) * ggx_d(m, alpha) / (4.0 * wo.z);
+                let pdf = self.g1_wo * ggx_d(m, alpha) / (4.0 * wo.z);
                 if !(pdf > 0.0) || !pdf.is_finite() {
                     return None;
                 }

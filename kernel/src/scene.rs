@@ -11,6 +11,7 @@ use crate::camera::{Camera, CameraDesc, Film};
 use crate::error::{Collection, SceneError};
 use crate::ids::{LightId, MaterialId, ShapeId};
 use crate::light::Light;
+use crate::light_importance::LightGeometry;
 use crate::material::Material;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::GridDistribution;
@@ -62,6 +63,8 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     camera_rays: CameraRays<S>,
     materials: Vec<Material, M>,
     lights: Vec<Light, L>,
+    /// Each light's terms of its cone seen from a point (selection by contribution).
+    light_geometry: Vec<LightGeometry, L>,
     light_power: Vec<f32, L>,
     power_selection: GridDistribution<L>,
 }
@@ -81,6 +84,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             packets: Packets::default(),
             materials: Vec::new(),
             lights: Vec::new(),
+            light_geometry: Vec::new(),
             light_power: Vec::new(),
             power_selection: GridDistribution::default(),
         })
@@ -122,7 +126,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             return Err(SceneError::AlreadyEmitting);
         }
         let power = light.power(Some(&object.shape));
-        let id = self.push_light(light, power)?;
+        let id = self.push_light(light, LightGeometry::new(&light, Some(&object.shape)), power)?;
         if let Some(object) = self.objects.get_mut(shape.index()) {
             object.light = Some(id);
         }
@@ -133,13 +137,19 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// Adds a point light of radiant `intensity` at `position`.
     pub fn add_point_light(&mut self, position: Vec3, intensity: Rgb) -> Result<LightId, SceneError> {
         let light = Light::point(position, intensity)?;
-        self.push_light(light, light.power(None))
+        self.push_light(light, LightGeometry::new(&light, None), light.power(None))
     }
 
-    fn push_light(&mut self, light: Light, power: f32) -> Result<LightId, SceneError> {
+    fn push_light(
+        &mut self,
+        light: Light,
+        geometry: LightGeometry,
+        power: f32,
+    ) -> Result<LightId, SceneError> {
         let id = index16(self.lights.len(), Collection::Lights)?;
         let full = SceneError::CapacityExceeded(Collection::Lights);
         self.lights.push(light).map_err(|_| full)?;
+        self.light_geometry.push(geometry).map_err(|_| full)?;
         self.light_power.push(power).map_err(|_| full)?;
         self.power_selection = GridDistribution::new(&self.light_power);
         Ok(LightId::new(id))
@@ -160,6 +170,11 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// All lights.
     pub fn lights(&self) -> &[Light] {
         &self.lights
+    }
+    /// Each light's geometry as its cone needs it, in the order of [`Scene::lights`].
+    #[inline]
+    pub fn light_geometry(&self) -> &[LightGeometry] {
+        &self.light_geometry
     }
     /// All materials.
     pub fn materials(&self) -> &[Material] {
