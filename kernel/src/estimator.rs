@@ -260,8 +260,8 @@ impl<'a, const L: usize> Shading<'a, L> {
         let bsdf = scene.material(x.object).filter(|m| !m.is_black())?;
         let frame = Frame::from_normal(x.point.n);
         let point = ShadingPoint { p: x.point.p, n: x.point.n, wo, bsdf: *bsdf };
-        let selection = light_sampler(scene, settings).selection_at(&point);
         let wo = frame.to_local(wo);
+        let selection = light_sampler(scene, settings).selection_in(&point, &frame, wo);
         let control_variate =
             settings.control_variate() == ControlVariate::On && matches!(bsdf, Material::Lambertian { .. });
         let (covered, unoccluded) =

@@ -211,7 +211,7 @@ impl LightCone {
     /// be: not a bound (see [`weighs_bsdf`] for Lambertian receivers).
     #[inline]
     pub fn contribution(&self, bsdf: &Material, frame: &Frame, wo: Vec3) -> f32 {
-        self.contribution_to(&Receiver::new(bsdf, frame, wo))
+        self.contribution_to(&Receiver::new(&bsdf.seen_from(wo), frame))
     }
 
     /// [`LightCone::contribution`] to `receiver`, whose terms are computed once for all lights.
@@ -238,13 +238,14 @@ pub struct Receiver {
 }
 
 impl Receiver {
-    /// The receiver with `bsdf` in `frame` seen from `wo` (local).
+    /// The receiver with the BSDF `seen` from its `wo` (local, in `frame`).
     #[inline]
-    pub fn new(bsdf: &Material, frame: &Frame, wo: Vec3) -> Self {
+    pub fn new(seen: &Outgoing, frame: &Frame) -> Self {
+        let bsdf = seen.material();
         Receiver {
             frame: *frame,
-            bsdf: bsdf.seen_from(wo),
-            lobe: bsdf.lobe_axis(wo),
+            bsdf: *seen,
+            lobe: bsdf.lobe_axis(seen.wo()),
             albedo: max0(luminance(bsdf.albedo_bound())),
         }
     }

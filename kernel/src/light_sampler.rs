@@ -242,13 +242,21 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         if !self.selects_locally() {
             return SelectionAt { local: GridDistribution::default() };
         }
+        let frame = Frame::from_normal(at.n);
+        self.selection_in(at, &frame, frame.to_local(at.wo))
+    }
+
+    /// [`LightSampler::selection_at`] given the receiver's frame (from its normal,
+    /// [`Frame::from_normal`]) and `at.wo` in it, `wo`, which the caller has already computed.
+    #[inline]
+    pub fn selection_in(&self, at: &ShadingPoint, frame: &Frame, wo: Vec3) -> SelectionAt<L> {
+        if !self.selects_locally() {
+            return SelectionAt { local: GridDistribution::default() };
+        }
         let lights = self.scene.light_geometry();
         let n = lights.len().min(L);
         // The BSDF's part, if it has one: in the receiver's frame.
-        let receiver = weighs_bsdf(&at.bsdf).then(|| {
-            let frame = Frame::from_normal(at.n);
-            Receiver::new(&at.bsdf, &frame, frame.to_local(at.wo))
-        });
+        let receiver = weighs_bsdf(&at.bsdf).then(|| Receiver::new(&at.bsdf.seen_from(wo), frame));
         let (mut importance, mut contribution) = ([0.0f32; L], [0.0f32; L]);
         for (k, light) in lights.iter().enumerate().take(n) {
             if let Some(cone) = light.cone(at.p) {

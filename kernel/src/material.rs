@@ -140,6 +140,18 @@ pub struct Outgoing {
 }
 
 impl Outgoing {
+    /// The material.
+    #[inline]
+    pub fn material(&self) -> &Material {
+        &self.material
+    }
+
+    /// The local direction towards the viewer.
+    #[inline]
+    pub fn wo(&self) -> Vec3 {
+        self.wo
+    }
+
     /// f(wo, wi) cos(theta_i) and the pdf of `wi`, sharing the half vector, D and G1(wo).
     #[inline]
     pub fn eval_pdf(&self, wi: Vec3) -> (Rgb, f32) {
