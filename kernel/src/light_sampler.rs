@@ -253,19 +253,26 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         if !self.selects_locally() {
             return SelectionAt { local: GridDistribution::default() };
         }
+        self.by_contribution(at, frame, wo)
+    }
+
+    /// The selection by contribution of [`LightSampler::selection_in`]. Out of line: the other
+    /// strategies' code around it stays small.
+    #[inline(never)]
+    fn by_contribution(&self, at: &ShadingPoint, frame: &Frame, wo: Vec3) -> SelectionAt<L> {
         let lights = self.scene.light_geometry();
-        let n = lights.len().min(L);
+        let n = lights.geometry().len().min(L);
         // The BSDF's part, if it has one: in the receiver's frame.
         let receiver = weighs_bsdf(&at.bsdf).then(|| Receiver::new(&at.bsdf.seen_from(wo), frame));
         let (mut importance, mut contribution) = ([0.0f32; L], [0.0f32; L]);
-        for (k, light) in lights.iter().enumerate().take(n) {
-            if let Some(cone) = light.cone(at.p) {
-                importance[k] = cone.importance(at.n);
+        lights.cones(at.p, at.n, |k, cone, i| {
+            if let (Some(slot), Some(c)) = (importance.get_mut(k), contribution.get_mut(k)) {
+                *slot = i;
                 if let Some(receiver) = &receiver {
-                    contribution[k] = cone.contribution_to(receiver);
+                    *c = cone.contribution_to(receiver);
                 }
             }
-        }
+        });
         let importance = &mut importance[..n];
         if receiver.is_some() {
             // The mixture (1 - floor) c_k / sum c + floor i_k / sum i, each part where it has a sum.

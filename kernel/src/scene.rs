@@ -11,7 +11,7 @@ use crate::camera::{Camera, CameraDesc, Film};
 use crate::error::{Collection, SceneError};
 use crate::ids::{LightId, MaterialId, ShapeId};
 use crate::light::Light;
-use crate::light_importance::LightGeometry;
+use crate::light_importance::{LightGeometry, LightTable};
 use crate::material::Material;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::GridDistribution;
@@ -64,7 +64,7 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     materials: Vec<Material, M>,
     lights: Vec<Light, L>,
     /// Each light's terms of its cone seen from a point (selection by contribution).
-    light_geometry: Vec<LightGeometry, L>,
+    light_geometry: LightTable<L>,
     light_power: Vec<f32, L>,
     power_selection: GridDistribution<L>,
 }
@@ -84,7 +84,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             packets: Packets::default(),
             materials: Vec::new(),
             lights: Vec::new(),
-            light_geometry: Vec::new(),
+            light_geometry: LightTable::default(),
             light_power: Vec::new(),
             power_selection: GridDistribution::default(),
         })
@@ -173,7 +173,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     }
     /// Each light's geometry as its cone needs it, in the order of [`Scene::lights`].
     #[inline]
-    pub fn light_geometry(&self) -> &[LightGeometry] {
+    pub fn light_geometry(&self) -> &LightTable<L> {
         &self.light_geometry
     }
     /// All materials.
