@@ -409,7 +409,12 @@ impl<const N: usize> GridDistribution<N> {
     pub fn new(weights: &[f32]) -> Self {
         let mut ends = heapless::Vec::new();
         let weights = weights.get(..N).unwrap_or(weights);
-        let total: f32 = weights.iter().filter(|w| **w > 0.0).sum();
+        // The sum of the positive weights (adding zero instead of the others changes no bit of a
+        // positive sum, and a sum that is not positive is refused below either way).
+        let mut total = 0.0f32;
+        for &w in weights {
+            total += if w > 0.0 { w } else { 0.0 };
+        }
         if !(total > 0.0 && total.is_finite()) {
             return Self { ends };
         }
