@@ -1,15 +1,21 @@
 #!/usr/bin/env bash
-# picomis against Mitsuba 3 on the Veach scene at equal spp: relative MSE, render time and
-# efficiency 1 / (relMSE x s) of picomis (its defaults, and with light selection by contribution)
-# and of every Mitsuba sampler (independent, stratified, multijitter, ldsampler at 64 spp;
-# orthogonal at 121), interleaved, 3 rounds. Prints the table and writes docs/vs-mitsuba.md. A
-# benchmark, not a test: run it on a quiet machine (the table records the load average).
+# picomis against Mitsuba 3 on every built-in scene (Veach first) at equal spp: relative MSE, render
+# time and efficiency 1 / (relMSE x s) of each picomis configuration (by default its defaults, and
+# with light selection by contribution) and of every Mitsuba sampler (independent, stratified,
+# multijitter, ldsampler at 64 spp; orthogonal at 121), interleaved, 3 rounds. Each scene is
+# `picomis-sim export`'s Mitsuba XML, checked to converge to picomis' image; its reference is
+# Mitsuba's converged image (cached under target/vs-mitsuba/renders), for Veach the committed
+# ~37,000-spp one. Prints the tables and writes docs/vs-mitsuba.md (one table per scene and a
+# summary). A benchmark, not a test: run it on a quiet machine (the tables record the load average).
+# The method in full: the docstring of scripts/vs-mitsuba/compare.py.
 #
 # Installs what it needs: Mitsuba 3 (PyPI) in a venv under target/vs-mitsuba/, and Debian's
 # libllvm19 for Mitsuba's llvm_ad_rgb variant (apt-get, as root).
 #
-# Usage: scripts/vs-mitsuba.sh [extra compare.py flags, e.g. --rounds 5
+# Usage: scripts/vs-mitsuba.sh [compare.py flags, e.g. --rounds 5 --scenes veach_mis,stress
+#        --add-picomis-config "independent=--sampler independent"
 #        --picomis-config "sobol=--sampler sobol" --picomis-config "pcg=--sampler independent"]
+#        (scripts/vs-mitsuba.sh --help lists them)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -33,9 +39,6 @@ fi
 cargo build --release -q -p picomis-sim
 DRJIT_LIBLLVM_PATH=$llvm "$venv/bin/python" scripts/vs-mitsuba/compare.py \
     --picomis "$root/target/release/picomis-sim" \
-    --xml scripts/vs-mitsuba/veach_mis.xml \
-    --json scenes/veach_mis.json \
-    --reference host-sim/tests/data/veach_mis.ref.exr \
     --work "$work/renders" \
     --out docs/vs-mitsuba.md \
     "$@"
