@@ -119,6 +119,13 @@ pub(crate) fn module(s: &SceneFile) -> String {
     if s.quads != picomis::QuadSampling::default() {
         let _ = writeln!(o, "        .map(|s| s.with_quad_sampling(picomis::QuadSampling::{:?}))", s.quads);
     }
+    if s.selection != picomis::LightSelection::default() {
+        let _ = writeln!(
+            o,
+            "        .map(|s| s.with_light_selection(picomis::LightSelection::{:?}))",
+            s.selection
+        );
+    }
     if let picomis::MisModel::One { c_light } = s.model {
         let _ = writeln!(
             o,

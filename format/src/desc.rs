@@ -102,6 +102,10 @@ struct IntegratorDesc {
     /// How quad lights are sampled (`QuadSampling::name`); the kernel's default when absent.
     #[serde(default)]
     quad_sampling: Option<String>,
+    /// How a light is chosen among several (`LightSelection::name`); the kernel's default when
+    /// absent.
+    #[serde(default)]
+    light_selection: Option<String>,
     /// `multi` (default) or `one`: the MIS sampling model.
     #[serde(default = "default_mis_model")]
     mis_model: String,
@@ -234,6 +238,21 @@ fn entry_name(kind: &str, i: usize, name: Option<&str>) -> String {
     }
 }
 
+/// The option of `all` called `name` (by `name_of`), the kernel's default when absent; else why
+/// not, naming every option.
+fn named<T: Copy + Default>(
+    name: Option<&str>,
+    what: &str,
+    all: &[T],
+    name_of: fn(&T) -> &'static str,
+) -> Result<T, String> {
+    let Some(name) = name else { return Ok(T::default()) };
+    all.iter().find(|o| name_of(o) == name).copied().ok_or_else(|| {
+        let names: Vec<&str> = all.iter().map(name_of).collect();
+        format!("unknown {what} {name:?} (expected {})", names.join(", "))
+    })
+}
+
 fn unknown_type(found: Option<&str>, expected: &str) -> String {
     match found {
         Some(t) => format!("unknown variant `{t}`, expected one of {expected}"),
@@ -284,21 +303,14 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
     picomis::RenderSettings::new(method, ig.emitter_samples, ig.bsdf_samples, 1, 0)
         .and_then(|s| s.with_mis_model(model))
         .map_err(|e| kernel("integrator", e))?;
-    let sampler = match ig.sampler.as_deref() {
-        None => picomis::SamplerKind::default(),
-        Some(name) => picomis::SamplerKind::from_name(name).ok_or_else(|| {
-            let names: Vec<&str> = picomis::SamplerKind::ALL.iter().map(|k| k.name()).collect();
-            fail("integrator.sampler", format!("unknown sampler {name:?} (expected {})", names.join(" or ")))
-        })?,
-    };
-    let quads = match ig.quad_sampling.as_deref() {
-        None => picomis::QuadSampling::default(),
-        Some(name) => picomis::QuadSampling::from_name(name).ok_or_else(|| {
-            let names: Vec<&str> = picomis::QuadSampling::ALL.iter().map(|q| q.name()).collect();
-            let expected = names.join(", ");
-            fail("integrator.quad_sampling", format!("unknown quad sampling {name:?} (expected {expected})"))
-        })?,
-    };
+    let sampler = named(ig.sampler.as_deref(), "sampler", &picomis::SamplerKind::ALL, |k| k.name())
+        .map_err(|r| fail("integrator.sampler", r))?;
+    let quads =
+        named(ig.quad_sampling.as_deref(), "quad sampling", &picomis::QuadSampling::ALL, |q| q.name())
+            .map_err(|r| fail("integrator.quad_sampling", r))?;
+    let selection =
+        named(ig.light_selection.as_deref(), "light selection", &picomis::LightSelection::ALL, |l| l.name())
+            .map_err(|r| fail("integrator.light_selection", r))?;
 
     let mut steps = Vec::new();
     let mut material_index = BTreeMap::new();
@@ -386,6 +398,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
         model,
         sampler,
         quads,
+        selection,
         light_samples: ig.emitter_samples,
         bsdf_samples: ig.bsdf_samples,
         steps,

@@ -21,8 +21,8 @@ use std::path::Path;
 pub use catalog::builtins_rust;
 
 use picomis::{
-    Camera, CameraDesc, Collection, Film, Material, Method, MisModel, QuadSampling, RenderSettings, Rgb,
-    SamplerKind, Scene, SceneError, Shape, Vec3,
+    Camera, CameraDesc, Collection, Film, LightSelection, Material, Method, MisModel, QuadSampling,
+    RenderSettings, Rgb, SamplerKind, Scene, SceneError, Shape, Vec3,
 };
 
 /// Why a scene file could not be loaded: which file, which entry, and why.
@@ -91,6 +91,7 @@ pub struct SceneFile {
     model: MisModel,
     sampler: SamplerKind,
     quads: QuadSampling,
+    selection: LightSelection,
     light_samples: u16,
     bsdf_samples: u16,
     steps: Vec<Step>,
@@ -200,13 +201,22 @@ impl SceneFile {
     pub fn default_settings(&self) -> Result<RenderSettings, LoadError> {
         RenderSettings::new(self.method, self.light_samples, self.bsdf_samples, 1, 0)
             .and_then(|s| s.with_mis_model(self.model))
-            .map(|s| s.with_sampler(self.sampler).with_quad_sampling(self.quads))
+            .map(|s| {
+                s.with_sampler(self.sampler)
+                    .with_quad_sampling(self.quads)
+                    .with_light_selection(self.selection)
+            })
             .map_err(|e| self.error("integrator", e))
     }
 
     /// The quad-light sampling of the integrator block (`quad_sampling`).
     pub fn default_quad_sampling(&self) -> QuadSampling {
         self.quads
+    }
+
+    /// The light selection of the integrator block (`light_selection`).
+    pub fn default_light_selection(&self) -> LightSelection {
+        self.selection
     }
 
     /// The sample stream of the integrator block.

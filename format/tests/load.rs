@@ -191,6 +191,27 @@ fn quad_sampling_names_come_from_the_kernel() {
 }
 
 #[test]
+fn light_selection_names_come_from_the_kernel() {
+    assert_eq!(load(&veach()).unwrap().default_light_selection(), picomis::LightSelection::default());
+    for l in picomis::LightSelection::ALL {
+        let mut v = veach();
+        v["integrator"]["light_selection"] = l.name().into();
+        let s = load(&v).unwrap();
+        assert_eq!(s.default_light_selection(), l, "{l:?}");
+        assert_eq!(s.default_settings().unwrap().light_selection(), l, "{l:?}");
+        // The firmware's settings carry it too.
+        let named = s.to_rust().contains(&format!("LightSelection::{l:?}"));
+        assert_eq!(named, l != picomis::LightSelection::default(), "{l:?}");
+    }
+    let mut v = veach();
+    v["integrator"]["light_selection"] = "random".into();
+    rejects(&v, "integrator.light_selection", "unknown light selection \"random\" (expected uniform, power");
+    let mut v = veach();
+    v["integrator"]["sampler"] = "halton".into();
+    rejects(&v, "integrator.sampler", "unknown sampler \"halton\" (expected sobol, independent)");
+}
+
+#[test]
 fn generated_rust_names_every_step_with_exact_bits() {
     let s = load(&veach()).unwrap();
     let code = s.to_rust();

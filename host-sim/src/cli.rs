@@ -105,9 +105,10 @@ pub struct RenderArgs {
     /// How sphere lights are sampled.
     #[arg(long, value_enum, default_value_t = SphereSamplingArg::Cone)]
     pub sphere_sampling: SphereSamplingArg,
-    /// How a light is chosen among several.
-    #[arg(long, value_name = "S", value_parser = selection_parser(), default_value = LightSelection::default().name())]
-    pub light_selection: LightSelection,
+    /// How a light is chosen among several (default: the scene's integrator block, else the
+    /// kernel's default).
+    #[arg(long, value_name = "S", value_parser = selection_parser())]
+    pub light_selection: Option<LightSelection>,
     /// How quad lights are sampled (default: the scene's integrator block, else area).
     #[arg(long, value_name = "Q", value_parser = quad_sampling_parser())]
     pub quad_sampling: Option<QuadSampling>,
@@ -369,7 +370,7 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
     let sampler = args.sampler.unwrap_or(loaded.file.default_sampler());
     Ok(settings
         .with_sphere_sampling(spheres)
-        .with_light_selection(args.light_selection)
+        .with_light_selection(args.light_selection.unwrap_or(loaded.file.default_light_selection()))
         .with_quad_sampling(args.quad_sampling.unwrap_or(loaded.file.default_quad_sampling()))
         .with_control_variate(control_variate)
         .with_sampler(sampler))

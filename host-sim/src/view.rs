@@ -59,9 +59,10 @@ pub struct ViewArgs {
     /// How sphere lights are sampled.
     #[arg(long, value_enum, default_value_t = SphereSamplingArg::Cone)]
     pub sphere_sampling: SphereSamplingArg,
-    /// How a light is chosen among several.
-    #[arg(long, value_name = "S", value_parser = selection_parser(), default_value = LightSelection::default().name())]
-    pub light_selection: LightSelection,
+    /// How a light is chosen among several (default: the scene's integrator block, else the
+    /// kernel's default).
+    #[arg(long, value_name = "S", value_parser = selection_parser())]
+    pub light_selection: Option<LightSelection>,
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -193,7 +194,7 @@ impl ViewState {
             view: View::Image,
             beta,
             alpha,
-            selection: args.light_selection,
+            selection: args.light_selection.unwrap_or(loaded.file.default_light_selection()),
             spheres: match args.sphere_sampling {
                 SphereSamplingArg::Area => SphereSampling::Area,
                 SphereSamplingArg::Cone => SphereSampling::Cone,

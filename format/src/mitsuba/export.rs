@@ -3,10 +3,12 @@
 //! transforms computed exactly in f64, so importing the export gives back the same values, bit
 //! for bit (see the round-trip tests).
 
+use std::collections::BTreeSet;
 use std::fmt::Write;
 
 use picomis::{FovAxis, Heuristic, Material, Method, Rgb, Vec3};
 
+use super::SHAPE_ID_SUFFIX;
 use super::transform::{V3, cross, normalize};
 use crate::{Geometry, LoadError, SceneFile, Step};
 
@@ -129,6 +131,8 @@ pub(crate) fn export(scene: &SceneFile, text: &str) -> Result<Export, LoadError>
     line("    </sensor>".into());
 
     let mut materials = Vec::new();
+    // Every id the document holds so far: the materials', then the shapes' and point lights'.
+    let mut ids: BTreeSet<String> = material_names.iter().cloned().collect();
     let (mut shape_index, mut light_index) = (0, 0);
     for step in &scene.steps {
         match step {
@@ -156,7 +160,7 @@ pub(crate) fn export(scene: &SceneFile, text: &str) -> Result<Export, LoadError>
             }
             Step::Shape { geometry, material, emitter, .. } => {
                 let id = match entry_name("shapes", shape_index) {
-                    Some(n) => format!(" id=\"{}\"", esc(&n)),
+                    Some(n) => format!(" id=\"{}\"", esc(&unique_id(n, &mut ids))),
                     None => String::new(),
                 };
                 shape_index += 1;
@@ -194,7 +198,7 @@ pub(crate) fn export(scene: &SceneFile, text: &str) -> Result<Export, LoadError>
             }
             Step::PointLight { position, intensity, .. } => {
                 let id = match entry_name("lights", light_index) {
-                    Some(n) => format!(" id=\"{}\"", esc(&n)),
+                    Some(n) => format!(" id=\"{}\"", esc(&unique_id(n, &mut ids))),
                     None => String::new(),
                 };
                 light_index += 1;
@@ -210,6 +214,17 @@ pub(crate) fn export(scene: &SceneFile, text: &str) -> Result<Export, LoadError>
     }
     line("</scene>".into());
     Ok(Export { xml: x, notes })
+}
+
+/// `name` as an id not yet in `ids` (then added): itself, else with [`SHAPE_ID_SUFFIX`] once
+/// or more.
+fn unique_id(name: String, ids: &mut BTreeSet<String>) -> String {
+    let mut id = name;
+    while ids.contains(&id) {
+        id.push_str(SHAPE_ID_SUFFIX);
+    }
+    ids.insert(id.clone());
+    id
 }
 
 /// The 4x4 `to_world` (row-major) mapping Mitsuba's rectangle [-1, 1]^2 onto the quad: corner

@@ -8,6 +8,7 @@ use std::collections::{BTreeMap, HashMap};
 use picomis::{CameraDesc, Film, FovAxis, Heuristic, Material, Method, RenderSettings, Shape, Vec3};
 use roxmltree::{Node, ParsingOptions};
 
+use super::SHAPE_ID_SUFFIX;
 use super::json::{CameraOut, EmitterOut, FileOut, FilmOut, IntegratorOut, MaterialOut, PointOut, ShapeOut};
 use super::transform::{Affine, cross, dot};
 use super::xml::{Op, PARAM_TAGS, Reader};
@@ -447,7 +448,11 @@ fn read_shape(r: &Reader, node: Node, materials: &mut Materials) -> Result<Shape
         return Err(r.error(node, "not modelled by picomis (sphere, rectangle)"));
     }
     let mut o = Obj::new(r, node)?;
-    let name = r.attr(node, "id")?;
+    // A shape exported under its material's name plus the suffix gets that name back.
+    let name = r.attr(node, "id")?.map(|id| match id.strip_suffix(SHAPE_ID_SUFFIX) {
+        Some(stem) if materials.by_id.contains_key(stem) => stem.to_string(),
+        _ => id,
+    });
     if let Some(p) = o.take("flip_normals") {
         if r.boolean(p)? {
             return Err(r.error(

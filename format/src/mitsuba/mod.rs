@@ -21,6 +21,10 @@ mod xml;
 
 pub use export::Export;
 
+/// Mitsuba's ids are one namespace, picomis's shape and material names two: a shape named like a
+/// material (Veach's plates) is exported with this suffix, which the importer takes off again.
+const SHAPE_ID_SUFFIX: &str = "_shape";
+
 use crate::{LoadError, SceneFile};
 
 /// Converts Mitsuba 3 XML `text` into the text of a `picomis-scene/1` file for a scene called
