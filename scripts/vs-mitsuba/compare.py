@@ -137,12 +137,6 @@ def export_scene(picomis, name, width, height, work):
     film = root.find("sensor/film")
     film.find("integer[@name='width']").set("value", "$resx")
     film.find("integer[@name='height']").set("value", "$resy")
-    # `picomis-sim export` gives a shape the id of its material when their names agree (Veach's
-    # plates), which Mitsuba rejects as a duplicate id; nothing refers to shapes, so rename them.
-    bsdf_ids = {b.get("id") for b in root.iter("bsdf")}
-    for shape in root.iter("shape"):
-        if shape.get("id") in bsdf_ids:
-            shape.set("id", shape.get("id") + "_shape")
     integ = root.find("integrator")
     assert integ.get("type") == "direct", integ.get("type")
     counts = {e.get("name"): e.get("value") for e in integ.findall("integer")}
