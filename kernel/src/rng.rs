@@ -422,7 +422,7 @@ mod tests {
             let m = 8;
             let pts = joint_points(pixel, m);
             let coord = |c: usize| -> [f32; 256] {
-                core::array::from_fn(|i| if c % 2 == 0 { pts[c / 2][i].0 } else { pts[c / 2][i].1 })
+                core::array::from_fn(|i| if c.is_multiple_of(2) { pts[c / 2][i].0 } else { pts[c / 2][i].1 })
             };
             for a in 0..6 {
                 for b in a + 1..6 {
