@@ -41,7 +41,7 @@ impl SceneVisitor for Job {
             .collect();
         let bar = progress_bar(u64::from(self.seeds) * u64::from(h) * u64::from(self.settings.spp()), "err");
         let images: Vec<Vec<Estimate>> = (0..self.seeds)
-            .map(|s| render_estimates(&scene, &self.settings.clone().with_seed(s), &bar).pixels)
+            .map(|s| render_estimates(&scene, &self.settings.with_seed(s), &bar).pixels)
             .collect();
         bar.finish_and_clear();
         let k = f64::from(self.seeds);
