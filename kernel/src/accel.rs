@@ -480,7 +480,7 @@ mod packets {
 mod plain {
     use super::{Filter, RaysFrom, Target};
     use crate::math::{SOFT_FLOAT, Vec3};
-    use crate::shape::{Ray, Shape};
+    use crate::shape::{FixedDir, Ray, Shape};
 
     /// No packets: the span of object indices that holds the emitters (a query for emitters
     /// looks there only).
@@ -617,10 +617,11 @@ mod plain {
             let first = self.span.start;
             let objects = objects.get(self.span.clone()).unwrap_or_default();
             if KEPT {
+                let dir = FixedDir::new(ray.dir);
                 let terms = from.terms().get(self.span.clone()).unwrap_or_default();
                 for (i, (o, terms)) in (first..).zip(objects.iter().zip(terms)) {
                     if admits(i, o) {
-                        if let Some(t) = o.shape().intersect_from(terms, ray, t_min, t_far) {
+                        if let Some(t) = o.shape().intersect_from(terms, ray, &dir, t_min, t_far) {
                             (t_far, best) = (t, Some(i));
                             if any {
                                 break;

@@ -43,17 +43,34 @@ const SRGB_STEPS: [f32; 255] = [
     0.99554527,
 ];
 
+/// The bits of [`SRGB_STEPS`]: positive floats order like their bits read as integers.
+const SRGB_STEP_BITS: [i32; 255] = {
+    let mut bits = [0i32; 255];
+    let mut k = 0;
+    while k < 255 {
+        bits[k] = SRGB_STEPS[k].to_bits() as i32;
+        k += 1;
+    }
+    bits
+};
+
 /// Linear radiance to 8-bit sRGB: clamp to [0, 1], sRGB transfer curve, round to the nearest
-/// code. The code is found by a binary search over a table of the 255 steps (8 comparisons per channel
-/// instead of a `powf`), so it costs the same on a Cortex-M0 as anywhere else.
+/// code. The code is found by a binary search over a table of the 255 steps (8 comparisons per
+/// channel instead of a `powf`), so it costs the same on a Cortex-M0 as anywhere else. The
+/// comparisons `v >= step` are integer comparisons of the bits: every step is a positive float,
+/// and positive floats (+inf included) order like their bits read as `i32`; a negative `v`
+/// (-0 included) reads as a negative `i32`, below every step, as it compares below them; a NaN
+/// compares false, so it is mapped below every step too.
 pub fn tone_map(c: Rgb) -> Rgb888 {
     let encode = |v: f32| {
-        // Number of steps at or below v; NaN compares false and maps to 0.
-        let (mut lo, mut hi) = (0usize, SRGB_STEPS.len());
+        let bits = v.to_bits() as i32;
+        let key = if bits > f32::INFINITY.to_bits() as i32 { -1 } else { bits };
+        // Number of steps at or below v.
+        let (mut lo, mut hi) = (0usize, SRGB_STEP_BITS.len());
         while lo < hi {
             let mid = (lo + hi) / 2;
-            match SRGB_STEPS.get(mid) {
-                Some(&step) if v >= step => lo = mid + 1,
+            match SRGB_STEP_BITS.get(mid) {
+                Some(&step) if key >= step => lo = mid + 1,
                 _ => hi = mid,
             }
         }
@@ -91,5 +108,27 @@ mod tests {
         }
         // The steps increase strictly.
         assert!(SRGB_STEPS.windows(2).all(|w| w[0] < w[1]));
+    }
+
+    /// The float comparisons the integer search stands for: the same code for every class of
+    /// value (zeros of both signs, subnormals, steps and their neighbours, 1, above 1, infinities,
+    /// NaNs of both signs, negatives).
+    #[test]
+    fn integer_search_equals_the_float_comparisons() {
+        let by_floats = |v: f32| SRGB_STEPS.iter().filter(|&&s| v >= s).count();
+        let mut values = std::vec![0.0, -0.0, 1e-45, -1e-45, 1.0, 1.5, 1e30, f32::MAX, -1.0, -f32::MAX];
+        values.extend([f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -f32::NAN, f32::from_bits(0x7f80_0001)]);
+        values.push(f32::from_bits(0xffff_ffff));
+        for s in SRGB_STEPS {
+            let b = s.to_bits();
+            values.extend([s, -s, f32::from_bits(b - 1), f32::from_bits(b + 1)]);
+        }
+        for i in 0..=10_000 {
+            values.push(i as f32 / 8_000.0);
+        }
+        for v in values {
+            let want = by_floats(v);
+            assert_eq!(usize::from(tone_map(Rgb::splat(v)).r()), want, "v = {v} ({:#x})", v.to_bits());
+        }
     }
 }
