@@ -425,6 +425,17 @@ mod tests {
     use super::*;
     use crate::math::Rgb;
 
+    /// A 2 x 2 quad at height 2 facing down.
+    fn ceiling_quad() -> Shape {
+        Shape::quad([
+            Vec3::new(-1.0, 2.0, -1.0),
+            Vec3::new(1.0, 2.0, -1.0),
+            Vec3::new(1.0, 2.0, 1.0),
+            Vec3::new(-1.0, 2.0, 1.0),
+        ])
+        .unwrap()
+    }
+
     fn area(shape: &Shape, l: f32) -> (Light, Shape) {
         (Light::Area { shape: crate::ids::ShapeId::new(0), radiance: Rgb::splat(l) }, *shape)
     }
@@ -455,13 +466,7 @@ mod tests {
         // Inside: zero.
         assert_eq!(light_importance(&light, Some(&shape), Vec3::new(3.0, 0.5, 0.2), Vec3::Y), 0.0);
         // A ceiling quad facing down: seen from below, not from above.
-        let q = Shape::quad([
-            Vec3::new(-1.0, 2.0, -1.0),
-            Vec3::new(1.0, 2.0, -1.0),
-            Vec3::new(1.0, 2.0, 1.0),
-            Vec3::new(-1.0, 2.0, 1.0),
-        ])
-        .unwrap();
+        let q = ceiling_quad();
         assert!(q.normal_at(Vec3::ZERO).y < 0.0);
         let (ql, qs) = area(&q, 1.0);
         let under = light_importance(&ql, Some(&qs), Vec3::ZERO, Vec3::Y);
@@ -512,13 +517,7 @@ mod tests {
         // the scalar ones.
         let mut table: LightTable<8> = LightTable::default();
         let mut lights = [LightGeometry::Dark; 8];
-        let q = Shape::quad([
-            Vec3::new(-1.0, 2.0, -1.0),
-            Vec3::new(1.0, 2.0, -1.0),
-            Vec3::new(1.0, 2.0, 1.0),
-            Vec3::new(-1.0, 2.0, 1.0),
-        ])
-        .unwrap();
+        let q = ceiling_quad();
         for (k, slot) in lights.iter_mut().enumerate() {
             let g = match k {
                 2 => LightGeometry::new(
