@@ -63,15 +63,19 @@ pub fn cone_one_minus_cos(sin2_theta_max: f32) -> f32 {
     sin2 / (1.0 + safe_sqrt(1.0 - sin2))
 }
 
-/// Uniform direction inside the cone around local `z` with the given `1 - cos(theta_max)`.
+/// Uniform direction inside the cone around local `z` with the given `1 - cos(theta_max)`,
+/// through the concentric disk (the low-distortion map Mitsuba 3 uses too): a uniform point `p`
+/// on the unit disk has `|p|^2` uniform in [0, 1], so `1 - cos(theta) = |p|^2 (1 - cos(theta_max))`
+/// and the azimuth is `p`'s. Neighbouring `u` stay neighbouring directions, so a stratified `u`
+/// stays stratified on the cone (the polar map squeezes one row of strata into the axis).
 #[inline]
 pub fn sample_uniform_cone(u: Vec2, one_minus_cos_max: f32) -> Vec3 {
-    // 1 - cos(theta) is uniform in [0, 1 - cos(theta_max)]; keep it in that form for precision.
-    let one_minus_cos = u.x * one_minus_cos_max;
-    let cos_theta = 1.0 - one_minus_cos;
-    let sin_theta = safe_sqrt(one_minus_cos * (2.0 - one_minus_cos));
-    let (s, c) = sin_cos_turns(u.y);
-    Vec3::new(sin_theta * c, sin_theta * s, cos_theta)
+    let p = sample_concentric_disk(u);
+    // 1 - cos(theta), kept in that form for precision.
+    let one_minus_cos = (p.x * p.x + p.y * p.y) * one_minus_cos_max;
+    // sin(theta) / |p| = sqrt((1 - cos_max) (2 - (1 - cos))).
+    let k = safe_sqrt(one_minus_cos_max * (2.0 - one_minus_cos));
+    Vec3::new(p.x * k, p.y * k, 1.0 - one_minus_cos)
 }
 
 /// Pdf of [`sample_uniform_cone`] per unit solid angle: 1 / (2 pi (1 - cos theta_max)).
