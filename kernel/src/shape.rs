@@ -67,7 +67,7 @@ pub(crate) struct OriginTerms(Terms);
 enum Terms {
     /// `f = o - center`, `c = |f|^2 - r^2`, the bound `g` of the early reject, and the
     /// integer copies of the fixed-point reject.
-    Sphere { f: Vec3, c: f32, g: f32, fixed: SphereFixed },
+    Sphere { f: Vec3, c: f32, g: f32, fixed: SphereFixedTerms },
     /// `plane - n . o`: the hit distance's numerator.
     Quad { num: f32 },
 }
@@ -81,6 +81,40 @@ const REJECT_MIN_F2: f32 = f32::from_bits((127 - 60) << 23);
 /// operations are soft-float calls (a dozen integer instructions against five calls), and in the
 /// kernel's unit tests, which check it.
 const FIXED_REJECT: bool = SOFT_FLOAT || cfg!(test);
+
+/// What a sphere's origin terms store for the fixed-point reject: its [`SphereFixed`] terms where
+/// the reject runs ([`FIXED_REJECT`]), nothing ([`NoFixed`]) elsewhere (176 bytes of RAM on the
+/// M4F's `RaysFrom` for the 11-object Veach scene).
+#[cfg(any(test, all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f"))))]
+type SphereFixedTerms = SphereFixed;
+#[cfg(not(any(test, all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f")))))]
+type SphereFixedTerms = NoFixed;
+
+/// The empty stand-in for [`SphereFixed`] where [`FIXED_REJECT`] is off: it never rejects.
+#[cfg_attr(
+    any(test, all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f"))),
+    allow(dead_code)
+)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct NoFixed;
+
+#[cfg_attr(
+    any(test, all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f"))),
+    allow(dead_code)
+)]
+impl NoFixed {
+    const OFF: Self = Self;
+
+    #[inline(always)]
+    fn new(_f: Vec3, _g: f32, _c: f32) -> Self {
+        Self
+    }
+
+    #[inline(always)]
+    fn rejects(&self, _d: &FixedDir, _t_min: f32) -> bool {
+        false
+    }
+}
 
 /// A ray direction in fixed point for the integer rejects: `q[i] = trunc(d[i] * 2^14)`
 /// (|d[i]| < 2, so |q[i]| < 2^15); `ok` is false for a direction with a component that is not
@@ -147,6 +181,10 @@ const FIXED_DOT_ERROR: i32 = 148_000;
 /// - Bi > E gives b > 0, which with c > 0 and t_min >= +0 is its exact behind-the-origin reject.
 ///
 /// Either way the full test would reject the ray: the result is the same, bit for bit.
+#[cfg_attr(
+    not(any(test, all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f")))),
+    allow(dead_code)
+)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct SphereFixed {
     q: [i32; 3],
@@ -154,6 +192,10 @@ struct SphereFixed {
     behind: bool,
 }
 
+#[cfg_attr(
+    not(any(test, all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f")))),
+    allow(dead_code)
+)]
 impl SphereFixed {
     const OFF: Self = Self { q: [0; 3], gq: 0, behind: false };
 
@@ -395,7 +437,7 @@ impl Shape {
                 let c = f2 - s.r2;
                 // The bound of the early reject (see `intersect_from`); 0 rejects nothing.
                 let g = if f2 >= REJECT_MIN_F2 { c - f2 * REJECT_MARGIN } else { 0.0 };
-                let fixed = if FIXED_REJECT { SphereFixed::new(f, g, c) } else { SphereFixed::OFF };
+                let fixed = if FIXED_REJECT { SphereFixedTerms::new(f, g, c) } else { SphereFixedTerms::OFF };
                 Terms::Sphere { f, c, g, fixed }
             }
             Shape::Quad(q) => Terms::Quad { num: q.plane - q.n.dot(origin) },
