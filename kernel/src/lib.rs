@@ -44,11 +44,13 @@
 
 pub mod accel;
 pub mod analytic;
+pub mod arith;
 pub mod camera;
 pub mod colormap;
 pub mod digest;
 pub mod error;
 pub mod estimator;
+mod fixed;
 pub mod ids;
 pub mod light;
 pub mod light_importance;
@@ -69,7 +71,8 @@ pub mod tonemap;
 pub use camera::{Camera, CameraDesc, Film, FovAxis};
 pub use colormap::{NO_LIGHT, weight_color};
 pub use digest::{Digest, render_digest};
-pub use error::{Collection, Field, SceneError};
+pub use arith::Arith;
+pub use error::{Collection, Field, SceneError, Unrepresentable};
 pub use estimator::{
     Estimate, MAX_CONTRIBUTION, Shading, TechniqueEstimate, estimate_direct, estimate_direct_multi_sample,
     estimate_direct_one_sample, trace,

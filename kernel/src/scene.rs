@@ -7,6 +7,8 @@
 use heapless::Vec;
 
 use crate::accel::{CameraRays, Filter, Packets, PointRays, RaysFrom, Target};
+use crate::arith::Arith;
+use crate::fixed::FixedScene;
 use crate::camera::{Camera, CameraDesc, Film};
 use crate::error::{Collection, SceneError};
 use crate::ids::{LightId, MaterialId, ShapeId};
@@ -67,6 +69,9 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     light_geometry: LightTable<L>,
     light_power: Vec<f32, L>,
     power_selection: GridDistribution<L>,
+    /// The fixed-point copies of the shapes when the ray queries run in fixed point
+    /// ([`Scene::enable_arith`]).
+    fixed: Option<FixedScene<S>>,
 }
 
 fn index16(len: usize, what: Collection) -> Result<u16, SceneError> {
@@ -87,6 +92,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             light_geometry: LightTable::default(),
             light_power: Vec::new(),
             power_selection: GridDistribution::default(),
+            fixed: None,
         })
     }
 
@@ -115,6 +121,9 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             .map_err(|_| SceneError::CapacityExceeded(Collection::Shapes))?;
         self.packets.push(usize::from(id), &shape);
         self.camera_rays.push(&shape);
+        if self.fixed.is_some() {
+            self.enable_arith(Arith::Fixed)?;
+        }
         Ok(ShapeId::new(id))
     }
 
@@ -153,6 +162,59 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         self.light_power.push(power).map_err(|_| full)?;
         self.power_selection = GridDistribution::new(&self.light_power);
         Ok(LightId::new(id))
+    }
+
+    /// Runs the ray queries in `arith` from now on (shading stays f32). [`Arith::Fixed`] picks
+    /// the scale from the scene's extent and fails with [`SceneError::NotRepresentable`],
+    /// naming the shape, when the format cannot represent the scene accurately; the scene
+    /// then keeps its previous arithmetic. Shapes added later are checked as they are added.
+    pub fn enable_arith(&mut self, arith: Arith) -> Result<(), SceneError> {
+        self.fixed = match arith {
+            Arith::F32 => None,
+            Arith::Fixed => {
+                Some(FixedScene::new(self.objects.iter().map(|o| &o.shape), self.camera.desc().origin)?)
+            }
+        };
+        Ok(())
+    }
+
+    /// Whether `arith` can represent this scene (`Err` names the shape that it cannot).
+    pub fn supports(&self, arith: Arith) -> Result<(), SceneError> {
+        match arith {
+            Arith::F32 => Ok(()),
+            Arith::Fixed => {
+                FixedScene::<S>::new(self.objects.iter().map(|o| &o.shape), self.camera.desc().origin)
+                    .map(|_| ())
+            }
+        }
+    }
+
+    /// The arithmetic of the ray queries.
+    pub fn arith(&self) -> Arith {
+        if self.fixed.is_some() { Arith::Fixed } else { Arith::F32 }
+    }
+
+    /// The nearest of the objects `keep` accepts along `ray` in `(t_min, t_max)`, in fixed point.
+    fn nearest_fixed(
+        &self,
+        fx: &FixedScene<S>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        keep: impl Fn(usize, &Object) -> bool,
+    ) -> Option<(f32, usize)> {
+        let fr = fx.ray(ray);
+        let mut best: Option<(f32, usize)> = None;
+        for (i, o) in self.objects.iter().enumerate() {
+            if !keep(i, o) {
+                continue;
+            }
+            let hi = best.map_or(t_max, |b| b.0);
+            if let Some(t) = fx.intersect(i, &o.shape, ray, &fr, t_min, hi) {
+                best = Some((t, i));
+            }
+        }
+        best
     }
 
     /// The camera.
@@ -237,6 +299,11 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         skip: Option<ShapeId>,
     ) -> Option<Hit> {
         let skip = skip.map_or(usize::MAX, ShapeId::index);
+        if let Some(fx) = &self.fixed {
+            let ray = from.ray(dir);
+            let (t, i) = self.nearest_fixed(fx, &ray, t_min, t_max, |i, _| i != skip)?;
+            return self.hit(&ray, t, i);
+        }
         let (t, i) = self.packets.nearest(from, dir, t_min, t_max, Filter::AllBut(skip), &self.objects)?;
         self.hit(&from.ray(dir), t, i)
     }
@@ -276,6 +343,17 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         skip: ShapeId,
     ) -> Option<(Hit, LightId, Rgb)> {
         let skip = skip.index();
+        if let Some(fx) = &self.fixed {
+            // The first surface, if it is an emitter's front side.
+            let ray = from.ray(dir);
+            let (t, best) = self.nearest_fixed(fx, &ray, 0.0, f32::INFINITY, |i, _| i != skip)?;
+            let hit = self.hit(&ray, t, best).filter(|h| h.front)?;
+            let light = self.objects.get(best)?.light?;
+            return match self.lights.get(light.index())? {
+                Light::Area { radiance, .. } => Some((hit, light, *radiance)),
+                Light::Point { .. } => None,
+            };
+        }
         let emitters = Filter::EmittersBut(skip);
         let (t, best) = self.packets.nearest(from, dir, 0.0, f32::INFINITY, emitters, &self.objects)?;
         let hit = self.hit(&from.ray(dir), t, best)?;
@@ -317,7 +395,11 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             if i == skip.index() {
                 continue;
             }
-            let Some(t) = o.shape.intersect(&ray, 0.0, f32::INFINITY) else { continue };
+            let t = match &self.fixed {
+                Some(fx) => fx.intersect(i, &o.shape, &ray, &fx.ray(&ray), 0.0, f32::INFINITY),
+                None => o.shape.intersect(&ray, 0.0, f32::INFINITY),
+            };
+            let Some(t) = t else { continue };
             let Some(hit) = self.hit(&ray, t, i).filter(|h| h.front) else { continue };
             if let Some(Light::Area { radiance, .. }) = self.lights.get(light.index()) {
                 f(hit, light, *radiance, nearest == Some(hit.object));
@@ -341,7 +423,15 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         a: ShapeId,
         b: Option<ShapeId>,
     ) -> bool {
-        let others = Filter::AllButTwo(a.index(), b.map_or(usize::MAX, ShapeId::index));
+        let (ia, ib) = (a.index(), b.map_or(usize::MAX, ShapeId::index));
+        if let Some(fx) = &self.fixed {
+            let ray = from.ray(dir);
+            let fr = fx.ray(&ray);
+            return !self.objects.iter().enumerate().any(|(i, o)| {
+                i != ia && i != ib && fx.intersect(i, &o.shape, &ray, &fr, 0.0, t_max).is_some()
+            });
+        }
+        let others = Filter::AllButTwo(ia, ib);
         !self.packets.any(from, dir, 0.0, t_max, others, &self.objects)
     }
 }

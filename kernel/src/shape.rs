@@ -270,6 +270,11 @@ pub struct Rectangle {
 }
 
 impl Sphere {
+    /// Centre and radius (for the fixed-point path, [`crate::fixed`]).
+    pub(crate) fn center_radius(&self) -> (Vec3, f32) {
+        (self.center, self.radius)
+    }
+
     /// The rest of the ray test from `f = o - center` and `b = f . d` on, with `c` giving
     /// `|f|^2 - r^2` (only needed when the line meets the sphere). Numerically robust form
     /// (Haines et al., Ray Tracing Gems, ch. 7).
@@ -327,6 +332,11 @@ impl Quad {
         let s = d.dot(self.s_axis);
         let v = d.dot(self.t_axis);
         ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&v)).then_some(t)
+    }
+
+    /// Corner `p0` and the edges `e1`, `e2` (for the fixed-point path, [`crate::fixed`]).
+    pub(crate) fn edges(&self) -> (Vec3, Vec3, Vec3) {
+        (self.p0, self.e1, self.e2)
     }
 
     /// Unit normal, plane offset `n . p0`, corner `p0`, and the dual axes.
