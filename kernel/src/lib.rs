@@ -68,10 +68,10 @@ pub mod shape;
 pub mod study;
 pub mod tonemap;
 
+pub use arith::Arith;
 pub use camera::{Camera, CameraDesc, Film, FovAxis};
 pub use colormap::{NO_LIGHT, weight_color};
 pub use digest::{Digest, render_digest};
-pub use arith::Arith;
 pub use error::{Collection, Field, SceneError, Unrepresentable};
 pub use estimator::{
     Estimate, MAX_CONTRIBUTION, Shading, TechniqueEstimate, estimate_direct, estimate_direct_multi_sample,

@@ -8,9 +8,9 @@ use heapless::Vec;
 
 use crate::accel::{CameraRays, Filter, Packets, PointRays, RaysFrom, Target};
 use crate::arith::Arith;
-use crate::fixed::FixedScene;
 use crate::camera::{Camera, CameraDesc, Film};
 use crate::error::{Collection, SceneError};
+use crate::fixed::FixedScene;
 use crate::ids::{LightId, MaterialId, ShapeId};
 use crate::light::Light;
 use crate::light_importance::{LightGeometry, LightTable};
