@@ -1,6 +1,6 @@
-//! The arithmetic of the scene's ray queries: f32 (the default, every target) or fixed point
-//! ([`crate::fixed`]), for cores without an FPU. Shading stays f32 either way; only the ray
-//! queries dispatch on it, so the estimator is written once.
+//! The arithmetic of the scene's ray queries (feature `fixed`): f32 (the default, every target)
+//! or fixed point (`kernel/src/fixed.rs`), for cores without an FPU. Shading stays f32 either
+//! way; only the ray queries dispatch on it, so the estimator is written once.
 
 /// The number type of the scene's ray queries.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -9,8 +9,8 @@ pub enum Arith {
     /// IEEE single precision (soft-float calls on cores without an FPU).
     #[default]
     F32,
-    /// Integers at a scale chosen from the scene's extent ([`crate::fixed`]): the same bits on
-    /// every machine.
+    /// Integers at a scale chosen from the scene's extent (`kernel/src/fixed.rs`): the same bits
+    /// on every machine.
     Fixed,
 }
 

@@ -44,12 +44,14 @@
 
 pub mod accel;
 pub mod analytic;
+#[cfg(feature = "fixed")]
 pub mod arith;
 pub mod camera;
 pub mod colormap;
 pub mod digest;
 pub mod error;
 pub mod estimator;
+#[cfg(feature = "fixed")]
 mod fixed;
 pub mod ids;
 pub mod light;
@@ -68,11 +70,14 @@ pub mod shape;
 pub mod study;
 pub mod tonemap;
 
+#[cfg(feature = "fixed")]
 pub use arith::Arith;
 pub use camera::{Camera, CameraDesc, Film, FovAxis};
 pub use colormap::{NO_LIGHT, weight_color};
 pub use digest::{Digest, render_digest};
-pub use error::{Collection, Field, SceneError, Unrepresentable};
+#[cfg(feature = "fixed")]
+pub use error::Unrepresentable;
+pub use error::{Collection, Field, SceneError};
 pub use estimator::{
     Estimate, MAX_CONTRIBUTION, Shading, TechniqueEstimate, estimate_direct, estimate_direct_multi_sample,
     estimate_direct_one_sample, trace,

@@ -270,11 +270,6 @@ pub struct Rectangle {
 }
 
 impl Sphere {
-    /// Centre and radius (for the fixed-point path, [`crate::fixed`]).
-    pub(crate) fn center_radius(&self) -> (Vec3, f32) {
-        (self.center, self.radius)
-    }
-
     /// The rest of the ray test from `f = o - center` and `b = f . d` on, with `c` giving
     /// `|f|^2 - r^2` (only needed when the line meets the sphere). Numerically robust form
     /// (Haines et al., Ray Tracing Gems, ch. 7).
@@ -334,7 +329,8 @@ impl Quad {
         ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&v)).then_some(t)
     }
 
-    /// Corner `p0` and the edges `e1`, `e2` (for the fixed-point path, [`crate::fixed`]).
+    /// Corner `p0` and the edges `e1`, `e2` (for the fixed-point path, `kernel/src/fixed.rs`).
+    #[cfg(feature = "fixed")]
     pub(crate) fn edges(&self) -> (Vec3, Vec3, Vec3) {
         (self.p0, self.e1, self.e2)
     }
