@@ -409,7 +409,9 @@ fn render(args: &RenderArgs) -> Result<(), SimError> {
     let batch = RenderBatch { settings: &[settings], message: loaded.file.name() };
     let batch = loaded.visit(film, crate::render::ArithBatch { arith: args.arith, batch })?.map_err(|e| {
         let entry = match e {
-            picomis::SceneError::NotRepresentable { entry, .. } => loaded.file.shape_entry(usize::from(entry)),
+            picomis::SceneError::NotRepresentable { entry, .. } => {
+                loaded.file.shape_entry(usize::from(entry))
+            }
             _ => None,
         };
         let entry = entry.map(|n| format!(" ({n})")).unwrap_or_default();

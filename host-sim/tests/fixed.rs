@@ -73,7 +73,8 @@ fn stats<const S: usize, const L: usize, const M: usize>(
 /// pixels without noise that differ; `Err` says which bound is broken.
 fn agreement(f32s: &Stats, fixed: &Stats) -> Result<(f64, f64), String> {
     let (mut z_max, mut sum, mut var) = (0.0f64, 0.0, 0.0);
-    for (p, ((a, sa), (b, sb))) in f32s.mean.iter().zip(&f32s.se).zip(fixed.mean.iter().zip(&fixed.se)).enumerate()
+    for (p, ((a, sa), (b, sb))) in
+        f32s.mean.iter().zip(&f32s.se).zip(fixed.mean.iter().zip(&fixed.se)).enumerate()
     {
         let se = (sa * sa + sb * sb).sqrt();
         let d = b - a;
@@ -126,7 +127,8 @@ fn fixed_agrees_with_f32_on_every_builtin_scene_it_supports() {
         let loaded = scenes::load(Some(b.name)).unwrap();
         match compare(&loaded) {
             Ok((f32s, fixed)) => {
-                let (z_pixel, z_image) = agreement(&f32s, &fixed).unwrap_or_else(|e| panic!("{}: {e}", b.name));
+                let (z_pixel, z_image) =
+                    agreement(&f32s, &fixed).unwrap_or_else(|e| panic!("{}: {e}", b.name));
                 eprintln!("{}: fixed vs f32: largest pixel |z| {z_pixel:.2}, film |z| {z_image:.2}", b.name);
                 supported.push(b.name);
             }

@@ -112,7 +112,9 @@ fn exponent<'a>(shapes: impl Iterator<Item = &'a Shape>, camera: Vec3) -> Result
     for shape in shapes {
         let e = match shape.as_sphere() {
             Some((c, r)) => c.abs().max_element() + r,
-            None => shape.corners().map_or(0.0, |cs| cs.iter().fold(0.0f32, |m, c| m.max(c.abs().max_element()))),
+            None => {
+                shape.corners().map_or(0.0, |cs| cs.iter().fold(0.0f32, |m, c| m.max(c.abs().max_element())))
+            }
         };
         // NaN-propagating: a NaN extent is not finite below.
         b = if e > b || e.is_nan() { e } else { b };
@@ -251,7 +253,11 @@ impl<const S: usize> FixedScene<S> {
         result
     }
 
-    fn fill<'a>(&mut self, shapes: impl Iterator<Item = &'a Shape> + Clone, camera: Vec3) -> Result<(), SceneError> {
+    fn fill<'a>(
+        &mut self,
+        shapes: impl Iterator<Item = &'a Shape> + Clone,
+        camera: Vec3,
+    ) -> Result<(), SceneError> {
         let s = exponent(shapes.clone(), camera)?;
         for (i, shape) in shapes.enumerate() {
             let f = convert(shape, i, s)?;
@@ -271,7 +277,11 @@ impl<const S: usize> FixedScene<S> {
             bounded(ray.origin.y, k, MAX_ORIGIN)?,
             bounded(ray.origin.z, k, MAX_ORIGIN)?,
         ];
-        let d = [bounded(ray.dir.x, q, MAX_DIR)?, bounded(ray.dir.y, q, MAX_DIR)?, bounded(ray.dir.z, q, MAX_DIR)?];
+        let d = [
+            bounded(ray.dir.x, q, MAX_DIR)?,
+            bounded(ray.dir.y, q, MAX_DIR)?,
+            bounded(ray.dir.z, q, MAX_DIR)?,
+        ];
         // Saturating conversions (+inf is i64::MAX, NaN is 0), then clamped: the quad test's
         // products stay in range.
         let lo = ((t_min * k) as i64).clamp(-MAX_T, MAX_T);
@@ -322,7 +332,14 @@ impl<const S: usize> FixedScene<S> {
 
     /// The distance to object `i` (shape `shape`) along `ray` in `(t_min, t_max)`.
     #[inline]
-    pub(crate) fn intersect(&self, i: usize, shape: &Shape, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+    pub(crate) fn intersect(
+        &self,
+        i: usize,
+        shape: &Shape,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<f32> {
         match self.ray(ray, t_min, t_max) {
             Some(r) => distance(self.shapes.get(i)?, &r).map(|t| t as f32 * self.inv),
             None => shape.intersect(ray, t_min, t_max),
@@ -394,9 +411,15 @@ mod tests {
                 .iter()
                 .enumerate()
                 .filter_map(|(i, s)| fx.intersect(i, s, &ray, 0.0, f32::INFINITY).map(|t| (t, i)))
-                .fold(None, |b: Option<(f32, usize)>, h| if b.is_none_or(|b| h.0 < b.0) { Some(h) } else { b });
+                .fold(
+                    None,
+                    |b: Option<(f32, usize)>, h| if b.is_none_or(|b| h.0 < b.0) { Some(h) } else { b },
+                );
             assert_eq!(fx.nearest(&shapes, &ray, 0.0, f32::INFINITY, false, |_| true), want);
-            assert_eq!(fx.nearest(&shapes, &ray, 0.0, f32::INFINITY, true, |_| true).is_some(), want.is_some());
+            assert_eq!(
+                fx.nearest(&shapes, &ray, 0.0, f32::INFINITY, true, |_| true).is_some(),
+                want.is_some()
+            );
         }
         assert!(hits > 100 && differ <= 2, "{hits} hits, {differ} differ");
     }
@@ -406,7 +429,10 @@ mod tests {
         let shapes = [Shape::sphere(Vec3::new(0.0, 0.0, -3.0), 1.0).unwrap()];
         let fx: FixedScene<1> = scene(&shapes, Vec3::ZERO).unwrap();
         let ray = Ray { origin: Vec3::new(0.0, 0.0, 1e6), dir: Vec3::new(0.0, 0.0, -1.0) };
-        assert_eq!(fx.intersect(0, &shapes[0], &ray, 0.0, f32::INFINITY), shapes[0].intersect(&ray, 0.0, f32::INFINITY));
+        assert_eq!(
+            fx.intersect(0, &shapes[0], &ray, 0.0, f32::INFINITY),
+            shapes[0].intersect(&ray, 0.0, f32::INFINITY)
+        );
         let nan = Ray { origin: Vec3::new(f32::NAN, 0.0, 0.0), dir: Vec3::new(0.0, 0.0, -1.0) };
         assert_eq!(fx.nearest(&shapes, &nan, 0.0, f32::INFINITY, false, |_| true), None);
     }

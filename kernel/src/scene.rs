@@ -188,7 +188,9 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
                 self.fixed.turn_off();
                 Ok(())
             }
-            Arith::Fixed => self.fixed.turn_on(self.objects.iter().map(|o| &o.shape), self.camera.desc().origin),
+            Arith::Fixed => {
+                self.fixed.turn_on(self.objects.iter().map(|o| &o.shape), self.camera.desc().origin)
+            }
         }
     }
 
@@ -198,7 +200,9 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     pub fn supports(&self, arith: Arith) -> Result<(), SceneError> {
         match arith {
             Arith::F32 => Ok(()),
-            Arith::Fixed => FixedScene::<S>::check(self.objects.iter().map(|o| &o.shape), self.camera.desc().origin),
+            Arith::Fixed => {
+                FixedScene::<S>::check(self.objects.iter().map(|o| &o.shape), self.camera.desc().origin)
+            }
         }
     }
 
@@ -344,7 +348,8 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         if self.fixed.is_on() {
             // The first surface, if it is an emitter's front side.
             let ray = from.ray(dir);
-            let (t, best) = self.fixed.nearest(&self.objects, &ray, 0.0, f32::INFINITY, false, |i| i != skip)?;
+            let (t, best) =
+                self.fixed.nearest(&self.objects, &ray, 0.0, f32::INFINITY, false, |i| i != skip)?;
             let hit = self.hit(&ray, t, best).filter(|h| h.front)?;
             let light = self.objects.get(best)?.light?;
             return match self.lights.get(light.index())? {
