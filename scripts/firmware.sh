@@ -216,6 +216,23 @@ check_softfloat() {
   fi
 }
 
+# check_unrepresentable NAME TARGET SCENE: the fixed-point firmware of a scene the format cannot
+# represent exits with status 7 and logs the shape and the reason (no panic, no render).
+check_unrepresentable() {
+  local name=$1 target=$2 scene=$3 rc
+  if ! build "$name" "$target" "--features fixed" "$scene" 16 12 1 0; then
+    fail "$name: build ($target --features fixed)"
+    return
+  fi
+  run_qemu "$name" "$target"
+  rc=$?
+  if [ $rc -eq 7 ] && grep -q '^error: fixed point cannot represent shape [0-9]* of scene' "$WORK/$name.log"; then
+    pass "$name: $target --features fixed $scene: rejected (status 7): $(grep -m1 '^error:' "$WORK/$name.log")"
+  else
+    fail "$name: expected status 7 and the shape in the log, got status $rc (log: $WORK/$name.log)"
+  fi
+}
+
 check_build() { # NAME TARGET FEATURES
   if build "$1" "$2" "$3" "$VEACH" 64 48 1 0; then
     pass "$1: $2 $3 builds"
@@ -267,6 +284,8 @@ cmd_test() {
   check_render m0-fixed-veach $M0 "--features fixed" "$VEACH" 64 48 1 0
   [ ${#scenes[@]} -gt 1 ] && check_render m0-fixed-lambert $M0 "--features fixed" "$LAMBERT" 64 48 1 0
   check_render m0-fixed-veach-spp $M0 "--features fixed" "$VEACH" 24 16 3 9
+  check_render m0-fixed-stress $M0 "--features fixed" scenes/stress.json 24 16 2 5
+  check_unrepresentable m0-fixed-tiny-light $M0 tests/scenes/tiny_light.json
   # RISC-V RV32IMC, 64x48 (FE310: 16 KiB RAM).
   check_render rv-veach $RV "" "$VEACH" 64 48 1 0
   check_render rv-veach-rtt $RV "--features rtt" "$VEACH" 64 48 1 0
