@@ -25,9 +25,9 @@ const Q: u32 = 30;
 /// The smallest sphere radius or quad edge, in units.
 const MIN_SIZE: f32 = 4096.0;
 /// Largest ray origin coordinate magnitude, in units.
-const MAX_ORIGIN: f32 = 268_435_456.0; // 2^28
+const MAX_ORIGIN: i64 = 1 << 28;
 /// Largest direction component magnitude, Q30 (a unit vector with rounding).
-const MAX_DIR: f32 = 1_075_838_976.0; // 2^30 + 2^21
+const MAX_DIR: i64 = (1 << Q) + (1 << 21);
 /// Largest dual-axis component, Q30 per unit.
 const MAX_AXIS: f32 = 16_777_216.0; // 2^24
 /// Beyond this distance (units) nothing in the scene can be met.
@@ -56,8 +56,8 @@ struct FixedRay {
 /// the ray queries run in fixed point; empty and off otherwise.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct FixedScene<const S: usize> {
-    /// 2^s: world to units.
-    scale: f32,
+    /// s: world to units is 2^s.
+    shift: i32,
     /// 2^-s.
     inv: f32,
     shapes: Vec<FixedShape, S>,
@@ -100,10 +100,32 @@ fn isqrt(x: i64) -> i64 {
     r as i64
 }
 
-/// `x * k` in integers when its magnitude is at most `max` (false for NaN).
-fn bounded(x: f32, k: f32, max: f32) -> Option<i64> {
-    let u = x * k;
-    (u.abs() <= max).then_some(u as i64)
+/// trunc(x 2^s) for s <= 126 (`None` for NaN) from the bits of x, with no soft-float call:
+/// what `(x * 2^s) as i64` gives for |x 2^s| < 2^40, and +-2^40 beyond (infinities too).
+#[inline]
+fn trunc_scaled(x: f32, s: i32) -> Option<i64> {
+    let b = x.to_bits();
+    let a = b & 0x7fff_ffff;
+    if a > 0x7f80_0000 {
+        return None;
+    }
+    // The exponent of |x| 2^s (below 0 for subnormal x: s <= 126).
+    let e = (a >> 23) as i32 - 127 + s;
+    let v = if e < 0 {
+        0
+    } else if e >= 40 {
+        1i64 << 40
+    } else {
+        let m = i64::from((a & 0x7f_ffff) | 0x80_0000);
+        if e >= 23 { m << (e - 23) } else { m >> (23 - e) }
+    };
+    Some(if b >> 31 != 0 { -v } else { v })
+}
+
+/// trunc(x 2^s) when its magnitude is at most `max` (`None` for NaN).
+#[inline]
+fn bounded(x: f32, s: i32, max: i64) -> Option<i64> {
+    trunc_scaled(x, s).filter(|v| v.abs() <= max)
 }
 
 /// The exponent s of the scale 2^s for `shapes` seen from `camera`.
@@ -196,7 +218,7 @@ fn distance(shape: &FixedShape, r: &FixedRay) -> Option<i64> {
             if an >= r.hi * ad || an < (r.lo + 1) * ad {
                 return None;
             }
-            let t = num.checked_div(denom)?;
+            let t = an.checked_div(ad)?;
             let p0 = wide(p0);
             let q = [
                 r.o[0] + ((r.d[0] * t) >> Q) - p0[0],
@@ -213,7 +235,7 @@ fn distance(shape: &FixedShape, r: &FixedRay) -> Option<i64> {
 impl<const S: usize> FixedScene<S> {
     /// Off: no copies, the ray queries run in f32.
     pub(crate) const fn off() -> Self {
-        Self { scale: 1.0, inv: 1.0, shapes: Vec::new(), on: false }
+        Self { shift: 0, inv: 1.0, shapes: Vec::new(), on: false }
     }
 
     /// Whether the ray queries run in fixed point.
@@ -263,7 +285,7 @@ impl<const S: usize> FixedScene<S> {
             let f = convert(shape, i, s)?;
             self.shapes.push(f).map_err(|_| SceneError::CapacityExceeded(Collection::Shapes))?;
         }
-        (self.scale, self.inv, self.on) = (pow2(s), pow2(-s), true);
+        (self.shift, self.inv, self.on) = (s, pow2(-s), true);
         Ok(())
     }
 
@@ -271,7 +293,7 @@ impl<const S: usize> FixedScene<S> {
     /// format's bounds.
     #[inline]
     fn ray(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<FixedRay> {
-        let (k, q) = (self.scale, pow2(Q as i32));
+        let (k, q) = (self.shift, Q as i32);
         let o = [
             bounded(ray.origin.x, k, MAX_ORIGIN)?,
             bounded(ray.origin.y, k, MAX_ORIGIN)?,
@@ -284,8 +306,8 @@ impl<const S: usize> FixedScene<S> {
         ];
         // Saturating conversions (+inf is i64::MAX, NaN is 0), then clamped: the quad test's
         // products stay in range.
-        let lo = ((t_min * k) as i64).clamp(-MAX_T, MAX_T);
-        let hi = ((t_max * k) as i64).clamp(-MAX_T, MAX_T);
+        let lo = trunc_scaled(t_min, k).unwrap_or(0).clamp(-MAX_T, MAX_T);
+        let hi = trunc_scaled(t_max, k).unwrap_or(0).clamp(-MAX_T, MAX_T);
         Some(FixedRay { o, d, lo, hi })
     }
 
@@ -364,6 +386,22 @@ mod tests {
         let mut fx = FixedScene::off();
         fx.turn_on(shapes.iter(), camera)?;
         Ok(fx)
+    }
+
+    #[test]
+    fn trunc_scaled_is_the_cast_of_the_product() {
+        let mut x = 0x9e37_79b9u32;
+        for _ in 0..100_000 {
+            x = x.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+            let v = f32::from_bits(x);
+            for s in [-20, 0, 5, 22, 30] {
+                let want = (v * pow2(s)) as i64;
+                let want = if v.is_nan() { None } else { Some(want.clamp(-(1 << 40), 1 << 40)) };
+                assert_eq!(trunc_scaled(v, s), want, "{v:e} 2^{s}");
+            }
+        }
+        assert_eq!(trunc_scaled(f32::INFINITY, 3), Some(1 << 40));
+        assert_eq!(trunc_scaled(-1.5, 1), Some(-3));
     }
 
     #[test]
