@@ -36,8 +36,8 @@ const MAX_T: i64 = 1 << 31;
 /// A shape in units (positions), Q30 (normal) and Q30 per unit (dual axes).
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum FixedShape {
-    /// Centre and squared radius.
-    Sphere { c: [i32; 3], r2: i64 },
+    /// Centre, radius and squared radius.
+    Sphere { c: [i32; 3], r: i32, r2: i64 },
     /// Corner, unit normal, plane offset `n . p0` (Q30 units), dual axes.
     Quad { p0: [i32; 3], n: [i32; 3], plane: i64, sa: [i32; 3], ta: [i32; 3] },
 }
@@ -160,8 +160,8 @@ fn convert(shape: &Shape, entry: usize, s: i32) -> Result<FixedShape, SceneError
             if !(ru >= MIN_SIZE) {
                 return Err(fail(Unrepresentable::TooSmall));
             }
-            let r = ru as i64;
-            Ok(FixedShape::Sphere { c: v3(c, scale), r2: r * r })
+            let r = ru as i32; // below 2^27
+            Ok(FixedShape::Sphere { c: v3(c, scale), r, r2: i64::from(r) * i64::from(r) })
         }
         Shape::Quad(q) => {
             let (p0, e1, e2) = q.edges();
@@ -185,10 +185,16 @@ fn convert(shape: &Shape, entry: usize, s: i32) -> Result<FixedShape, SceneError
 fn distance(shape: &FixedShape, r: &FixedRay) -> Option<i64> {
     let inside = |t: i64| t > r.lo && t < r.hi;
     match shape {
-        FixedShape::Sphere { c, r2 } => {
+        FixedShape::Sphere { c, r: radius, r2 } => {
             let c = wide(c);
             let f = [r.o[0] - c[0], r.o[1] - c[1], r.o[2] - c[2]];
             let b = dot(&f, &r.d) >> Q;
+            // Cheap rejects before the rest: both hits are at or beyond -b - r (h <= r), and a
+            // centre behind an origin outside the sphere (a coordinate of f beyond r) is missed.
+            let rad = i64::from(*radius);
+            if -b - rad >= r.hi || (b > 0 && f.iter().any(|x| x.abs() > rad)) {
+                return None;
+            }
             let l = [f[0] - ((r.d[0] * b) >> Q), f[1] - ((r.d[1] * b) >> Q), f[2] - ((r.d[2] * b) >> Q)];
             let disc = r2 - dot(&l, &l);
             if disc < 0 {
