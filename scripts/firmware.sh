@@ -114,10 +114,18 @@ FAILED=0
 pass() { PASSED=$((PASSED + 1)); say "PASS $*"; }
 fail() { FAILED=$((FAILED + 1)); say "FAIL $*"; }
 
+# arith_of FEATURES: the host's --arith for a firmware build with FEATURES (fixed with the
+# `fixed` feature).
+arith_of() { case " $1 " in *" --features fixed "* | *",fixed "* | *" --features fixed,"*) echo fixed ;; *) echo f32 ;; esac; }
+
 # check_render NAME TARGET FEATURES SCENE W H SPP SEED: build, run under QEMU, check the exit
-# status and the log, and compare the framebuffer with the host's render of the same scene.
+# status and the log, and compare the framebuffer with the host's render of the same scene (in
+# fixed point with the `fixed` feature: `picomis-sim render --arith fixed`). Semihosting-text
+# builds ("" and "--features fixed") also compare the HDR digest.
 check_render() {
-  local name=$1 target=$2 feats=$3 scene=$4 w=$5 h=$6 spp=$7 seed=$8 rc
+  local name=$1 target=$2 feats=$3 scene=$4 w=$5 h=$6 spp=$7 seed=$8 rc arith text=0
+  arith=$(arith_of "$feats")
+  { [ "$feats" = "" ] || [ "$feats" = "--features fixed" ]; } && text=1
   if ! build "$@"; then
     fail "$name: build ($target $feats)"
     return
@@ -129,7 +137,7 @@ check_render() {
     tail -n 20 "$WORK/$name.log"
     return
   fi
-  if [ "$feats" = "" ] && ! grep -q "^rendered $((w * h)) pixels" "$WORK/$name.log"; then
+  if [ $text = 1 ] && ! grep -q "^rendered $((w * h)) pixels" "$WORK/$name.log"; then
     fail "$name: no render statistics in the log"
     return
   fi
@@ -142,16 +150,16 @@ check_render() {
     return
   fi
   if ! "$SIM" render "$ROOT/$scene" --width "$w" --height "$h" --spp "$spp" --seed "$seed" \
-      --out "$WORK/$name.host.rgb565" --digest >"$WORK/$name.host.log" 2>&1; then
+      --arith "$arith" --out "$WORK/$name.host.rgb565" --digest >"$WORK/$name.host.log" 2>&1; then
     fail "$name: host render failed: $(tail -n 3 "$WORK/$name.host.log")"
     return
   fi
   if cmp "$WORK/$name.rgb565" "$WORK/$name.host.rgb565"; then
-    pass "$name: $target ${feats:-(qemu)} $scene ${w}x${h} spp $spp seed $seed: QEMU framebuffer == host"
+    pass "$name: $target ${feats:-(qemu)} $scene ${w}x${h} spp $spp seed $seed: QEMU framebuffer == host (--arith $arith)"
   else
-    fail "$name: QEMU framebuffer differs from the host render"
+    fail "$name: QEMU framebuffer differs from the host render (--arith $arith)"
   fi
-  if [ "$feats" = "" ]; then
+  if [ $text = 1 ]; then
     check_digest "$name"
   fi
 }
@@ -208,6 +216,23 @@ check_softfloat() {
   fi
 }
 
+# check_unrepresentable NAME TARGET SCENE: the fixed-point firmware of a scene the format cannot
+# represent exits with status 7 and logs the shape and the reason (no panic, no render).
+check_unrepresentable() {
+  local name=$1 target=$2 scene=$3 rc
+  if ! build "$name" "$target" "--features fixed" "$scene" 16 12 1 0; then
+    fail "$name: build ($target --features fixed)"
+    return
+  fi
+  run_qemu "$name" "$target"
+  rc=$?
+  if [ $rc -eq 7 ] && grep -q '^error: fixed point cannot represent shape [0-9]* of scene' "$WORK/$name.log"; then
+    pass "$name: $target --features fixed $scene: rejected (status 7): $(grep -m1 '^error:' "$WORK/$name.log")"
+  else
+    fail "$name: expected status 7 and the shape in the log, got status $rc (log: $WORK/$name.log)"
+  fi
+}
+
 check_build() { # NAME TARGET FEATURES
   if build "$1" "$2" "$3" "$VEACH" 64 48 1 0; then
     pass "$1: $2 $3 builds"
@@ -255,13 +280,20 @@ cmd_test() {
   check_render m0-veach-spp $M0 "" "$VEACH" 24 16 3 9
   check_render m0-panel $M0 "" "$PANEL" 24 16 2 5
   check_build m0-board-rtt $M0 "--no-default-features --features rtt"
+  # Fixed-point ray queries (feature fixed) on the cores without an FPU.
+  check_render m0-fixed-veach $M0 "--features fixed" "$VEACH" 64 48 1 0
+  [ ${#scenes[@]} -gt 1 ] && check_render m0-fixed-lambert $M0 "--features fixed" "$LAMBERT" 64 48 1 0
+  check_render m0-fixed-veach-spp $M0 "--features fixed" "$VEACH" 24 16 3 9
+  check_render m0-fixed-stress $M0 "--features fixed" scenes/stress.json 24 16 2 5
+  check_unrepresentable m0-fixed-tiny-light $M0 tests/scenes/tiny_light.json
   # RISC-V RV32IMC, 64x48 (FE310: 16 KiB RAM).
   check_render rv-veach $RV "" "$VEACH" 64 48 1 0
   check_render rv-veach-rtt $RV "--features rtt" "$VEACH" 64 48 1 0
   [ ${#scenes[@]} -gt 1 ] && check_render rv-lambert $RV "" "$LAMBERT" 64 48 1 0
   check_render rv-panel $RV "" "$PANEL" 24 16 2 5
   check_build rv-board-rtt $RV "--no-default-features --features rtt"
-  check_symbols m4-veach m4-board-rtt m0-veach m0-board-rtt rv-veach rv-board-rtt
+  check_render rv-fixed-veach $RV "--features fixed" "$VEACH" 64 48 1 0
+  check_symbols m4-veach m4-board-rtt m0-veach m0-board-rtt rv-veach rv-board-rtt m0-fixed-veach rv-fixed-veach
   say "firmware tests took $((SECONDS - start)) s"
   say "firmware: $PASSED passed, $FAILED failed"
   [ "$FAILED" -eq 0 ]
@@ -294,6 +326,8 @@ report_size() { # NAME TARGET LABEL
 
 # The cores measured: label, build-name prefix, target, film, instruction target per camera sample.
 CORES=("M4F m4 $M4 160x120 2000" "M0 m0 $M0 64x48 20000" "RV32IMC rv $RV 64x48 20000")
+# The cores measured with the fixed-point ray queries (feature fixed) too.
+FIXED_CORES=("M0 m0 $M0 64x48 20000" "RV32IMC rv $RV 64x48 20000")
 
 cmd_measure() {
   setup binutils
@@ -307,12 +341,22 @@ cmd_measure() {
     # Instruction counts: the Veach scene at 64x48, 1 spp, on every core (the same work).
     build "$pre-measure" "$target" "--features measure" "$VEACH" 64 48 1 0 || die "build failed"
   done
+  # The fixed-point ray queries (feature fixed) on the cores without an FPU.
+  for c in "${FIXED_CORES[@]}"; do
+    read -r core pre target film goal <<<"$c"
+    build "$pre-fixed-size" "$target" "--features fixed" "$VEACH" "${film%x*}" "${film#*x}" 1 0 || die "build failed"
+    build "$pre-fixed-measure" "$target" "--features measure,fixed" "$VEACH" 64 48 1 0 || die "build failed"
+  done
 
   step "measure: size (bytes; targets: text <= 32768, RAM besides the framebuffer <= 4096)"
   for c in "${CORES[@]}"; do
     read -r core pre target film goal <<<"$c"
     report_size "$pre-size" "$target" "$core qemu (semihosting text) $film"
     report_size "$pre-size-board" "$target" "$core board (defmt-rtt) $film"
+  done
+  for c in "${FIXED_CORES[@]}"; do
+    read -r core pre target film goal <<<"$c"
+    report_size "$pre-fixed-size" "$target" "$core fixed qemu (semihosting) $film"
   done
 
   step "measure: peak stack (stack painting; target <= 4096 bytes)"
@@ -323,12 +367,24 @@ cmd_measure() {
       printf '%-12s %s\n' "$n" "$(grep -m1 '^stack peak:' "$WORK/$n.log")"
     done
   done
+  for c in "${FIXED_CORES[@]}"; do
+    read -r core pre target film goal <<<"$c"
+    for n in "$pre-fixed-size" "$pre-fixed-measure"; do
+      run_qemu "$n" "$target" || die "$n: QEMU exit status $? (log $WORK/$n.log)"
+      printf '%-18s %s\n' "$n" "$(grep -m1 '^stack peak:' "$WORK/$n.log")"
+    done
+  done
 
   step "measure: instructions per camera sample (Veach, 1 light + 1 BSDF sample, power heuristic)"
   for c in "${CORES[@]}"; do
     read -r core pre target film goal <<<"$c"
     say "-- $pre-measure ($core)"
     grep '^measure:' "$WORK/$pre-measure.log"
+  done
+  for c in "${FIXED_CORES[@]}"; do
+    read -r core pre target film goal <<<"$c"
+    say "-- $pre-fixed-measure ($core, fixed-point ray queries)"
+    grep '^measure:' "$WORK/$pre-fixed-measure.log"
   done
 
   step "measure: fixed-point prototype on the M0 (Q16.16 ray-shape intersection against f32; firmware/src/fixed_proto.rs)"
@@ -353,6 +409,22 @@ cmd_measure() {
       "board build: text $t, rodata $r, data $d, bss $b (framebuffer $fb, other RAM $((d + b + u - fb)));" \
       "stack $stackline"
     record_figures "$figures" "$core" "$per" "$t" "$r" $((d + b + u - fb)) "${stackline%% *}"
+  done
+  # The fixed-point builds: printed against the target (not in budget.json: scripts/budget.sh
+  # reads a fixed list of keys).
+  for c in "${FIXED_CORES[@]}"; do
+    read -r core pre target film goal <<<"$c"
+    per=$(sed -n 's/^measure: camera_sample: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-fixed-measure.log")
+    tile=$(sed -n 's/^measure: render_tile: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-fixed-measure.log")
+    stackline=$(sed -n 's/^stack peak: \(.*\)/\1/p' "$WORK/$pre-fixed-size.log")
+    read -r v t r d b u < <(sections "$WORK/$pre-fixed-size.elf")
+    fb=$(symbol_size "$WORK/$pre-fixed-size.elf" FRAMEBUFFER)
+    verdict="over the target"
+    awk -v p="${per:-1e99}" -v g="$goal" 'BEGIN{exit !(p <= g)}' && verdict="within the target"
+    say "$core fixed: ${per:-?} instructions per camera sample, target $goal: $verdict" \
+      "(${tile:-?} with tone map and store);" \
+      "qemu build: text $t, rodata $r, data $d, bss $b (framebuffer $fb, other RAM $((d + b + u - fb)));" \
+      "stack $stackline"
   done
   if [ "${1:-}" = check ]; then
     step "budget: figures against firmware/budget.json"
@@ -379,7 +451,7 @@ cmd_lint() {
   local t f rc=0
   (cd "$ROOT" && cargo fmt -p picomis-firmware -- --check) || rc=1
   for t in $M4 $M0 $RV; do
-    for f in "" "--features rtt" "--no-default-features --features rtt" "--features measure" "--features fixed-proto" "--features softfloat-check"; do
+    for f in "" "--features rtt" "--no-default-features --features rtt" "--features measure" "--features fixed-proto" "--features softfloat-check" "--features fixed" "--features measure,fixed" "--features rtt,fixed"; do
       # shellcheck disable=SC2086
       (cd "$FW" && CARGO_TARGET_DIR="$TD" cargo clippy --quiet --profile firmware --target $t $f -- -D warnings) || rc=1
     done

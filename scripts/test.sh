@@ -47,6 +47,8 @@ for t in thumbv7em-none-eabihf thumbv6m-none-eabi riscv32imc-unknown-none-elf; d
   scripts/symbols.sh "${CARGO_TARGET_DIR:-target}/$t/release/libpicomis.rlib"
   cargo build -p picomis --release --target "$t" --features defmt
   cargo clippy -p picomis --target "$t" --features defmt -- -D warnings
+  # The fixed-point ray queries (feature fixed: the firmware's `fixed` builds).
+  cargo clippy -p picomis --target "$t" --features defmt,fixed -- -D warnings
 done
 
 step "docs (-D warnings)"
@@ -54,6 +56,8 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p picomis -p picomis-format
 
 step "kernel unit tests in a debug build (overflow checks on: RenderStats of a 4096x4096 film at 256 spp)"
 cargo test -p picomis --lib
+# With the fixed-point ray queries: their i64 products under overflow checks.
+cargo test -p picomis --lib --features fixed
 
 step "host tests (release: the statistical suites are compute-bound)"
 cargo test --release

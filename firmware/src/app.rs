@@ -61,6 +61,9 @@ fn build_scene(film: Film) -> Result<&'static scene::SceneT, picomis::SceneError
     let scene = unsafe { (*ptr::addr_of_mut!(SCENE)).write(empty) };
     // Fill it in place: the scene is never copied whole on the stack again.
     scene::populate(scene)?;
+    // The ray queries in fixed point: the copies of the shapes are filled inside the scene.
+    #[cfg(feature = "fixed")]
+    scene.enable_arith(picomis::Arith::Fixed)?;
     Ok(scene)
 }
 
@@ -74,6 +77,8 @@ fn run() -> u32 {
         scene::NAME,
         config::SCENE_FILE
     );
+    #[cfg(feature = "fixed")]
+    info!("ray queries in fixed point (feature fixed)");
     let Ok(film) = Film::new(config::WIDTH, config::HEIGHT) else {
         info!("error: film {}x{} rejected", config::WIDTH, config::HEIGHT);
         return status::FILM;
@@ -81,6 +86,16 @@ fn run() -> u32 {
     let scene = match build_scene(film) {
         Ok(s) => s,
         Err(_e) => {
+            #[cfg(feature = "fixed")]
+            if let picomis::SceneError::NotRepresentable { entry, reason } = _e {
+                info!(
+                    "error: fixed point cannot represent shape {} of scene {}: {}",
+                    u32::from(entry),
+                    scene::NAME,
+                    reason.as_str()
+                );
+                return status::NOT_REPRESENTABLE;
+            }
             info!("error: scene {} could not be built", scene::NAME);
             #[cfg(feature = "rtt")]
             defmt::println!("scene error: {}", _e);

@@ -11,6 +11,9 @@ pub const SETTINGS: u32 = 4;
 /// The framebuffer could not be written to the host.
 #[allow(dead_code)]
 pub const HOST_FILE: u32 = 5;
+/// The fixed-point format cannot represent the scene (feature `fixed`; the log names the shape).
+#[allow(dead_code)]
+pub const NOT_REPRESENTABLE: u32 = 7;
 /// Panic.
 #[allow(dead_code)]
 pub const PANIC: u32 = 101;

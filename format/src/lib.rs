@@ -115,6 +115,16 @@ pub(crate) fn read_bounded(path: &Path) -> Result<(String, String), LoadError> {
 }
 
 impl SceneFile {
+    /// The entry (e.g. `shapes[1] "sphere_light"`) of the kernel's shape `index` (shapes are
+    /// added in the file's order), to name it in an error the kernel reports by index.
+    pub fn shape_entry(&self, index: usize) -> Option<&str> {
+        let mut shapes = self.steps.iter().filter_map(|s| match s {
+            Step::Shape { entry, .. } => Some(entry.as_str()),
+            _ => None,
+        });
+        shapes.nth(index)
+    }
+
     /// Parses and validates a scene; `file` names it in errors.
     pub fn parse(text: &str, file: &str) -> Result<Self, LoadError> {
         desc::lower(text, file)

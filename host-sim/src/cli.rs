@@ -143,6 +143,15 @@ pub struct RenderArgs {
     /// the one the firmware logs), to compare two machines bit for bit.
     #[arg(long)]
     pub digest: bool,
+    /// Arithmetic of the ray queries: f32, or fixed (integers at a scale chosen from the scene's
+    /// extent, as on FPU-less cores; a scene it cannot represent is rejected).
+    #[arg(long, value_name = "A", default_value = "f32", value_parser = arith_parser())]
+    pub arith: picomis::Arith,
+}
+
+fn arith_parser() -> impl clap::builder::TypedValueParser<Value = picomis::Arith> {
+    clap::builder::PossibleValuesParser::new(["f32", "fixed"])
+        .map(|s| picomis::Arith::parse(&s).unwrap_or_default())
 }
 
 /// `picomis-sim figure`.
@@ -397,7 +406,17 @@ fn render(args: &RenderArgs) -> Result<(), SimError> {
     let out = args.out.clone().unwrap_or_else(|| default_out(loaded.file.name(), ".png"));
     let format = check_output(&out).map_err(SimError::Usage)?;
 
-    let batch = loaded.visit(film, RenderBatch { settings: &[settings], message: loaded.file.name() })?;
+    let batch = RenderBatch { settings: &[settings], message: loaded.file.name() };
+    let batch = loaded.visit(film, crate::render::ArithBatch { arith: args.arith, batch })?.map_err(|e| {
+        let entry = match e {
+            picomis::SceneError::NotRepresentable { entry, .. } => {
+                loaded.file.shape_entry(usize::from(entry))
+            }
+            _ => None,
+        };
+        let entry = entry.map(|n| format!(" ({n})")).unwrap_or_default();
+        SimError::Usage(format!("{}: --arith {}: {e}{entry}", loaded.file.name(), args.arith.name()))
+    })?;
     let estimates = &batch.images[0];
     let image = Image {
         width: estimates.width,

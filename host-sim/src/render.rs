@@ -89,3 +89,23 @@ impl SceneVisitor for RenderBatch<'_> {
         Batch { images, elapsed, camera_samples }
     }
 }
+
+/// A [`RenderBatch`] whose scene runs its ray queries in `arith` ([`Scene::enable_arith`]):
+/// the scene's error when the arithmetic cannot represent it.
+pub struct ArithBatch<'a> {
+    /// The ray queries' arithmetic.
+    pub arith: picomis::Arith,
+    /// The renders.
+    pub batch: RenderBatch<'a>,
+}
+
+impl SceneVisitor for ArithBatch<'_> {
+    type Output = Result<Batch, picomis::SceneError>;
+    fn visit<const S: usize, const L: usize, const M: usize>(
+        self,
+        mut scene: Scene<S, L, M>,
+    ) -> Result<Batch, picomis::SceneError> {
+        scene.enable_arith(self.arith)?;
+        Ok(self.batch.visit(scene))
+    }
+}

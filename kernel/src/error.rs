@@ -89,6 +89,47 @@ pub enum SceneError {
     AlreadyEmitting,
     /// Both sample counts are zero: no technique is left.
     NoTechnique,
+    /// The fixed-point format chosen for the scene cannot represent shape `entry` accurately
+    /// (feature `fixed`).
+    #[cfg(feature = "fixed")]
+    NotRepresentable {
+        /// Index of the shape.
+        entry: u16,
+        /// Why.
+        reason: Unrepresentable,
+    },
+}
+
+/// Why the fixed-point format cannot represent a shape (feature `fixed`).
+#[cfg(feature = "fixed")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Unrepresentable {
+    /// The scene's extent is not finite.
+    Extent,
+    /// A sphere radius or quad edge is below 2^12 units of the scale the extent sets.
+    TooSmall,
+    /// A quad's dual axes are too long for the format (a nearly degenerate parallelogram).
+    Skewed,
+}
+
+#[cfg(feature = "fixed")]
+impl Unrepresentable {
+    /// The reason in words (for logs without `core::fmt`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Unrepresentable::Extent => "the scene's extent is not finite",
+            Unrepresentable::TooSmall => "it is too small relative to the scene's extent (below 2^-14 of it)",
+            Unrepresentable::Skewed => "its quad is too skewed",
+        }
+    }
+}
+
+#[cfg(feature = "fixed")]
+impl fmt::Display for Unrepresentable {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
 }
 
 impl fmt::Display for Field {
@@ -145,6 +186,10 @@ impl fmt::Display for SceneError {
             SceneError::UnknownShape => f.write_str("unknown shape"),
             SceneError::AlreadyEmitting => f.write_str("shape already has an emitter"),
             SceneError::NoTechnique => f.write_str("both sample counts are zero"),
+            #[cfg(feature = "fixed")]
+            SceneError::NotRepresentable { entry, reason } => {
+                write!(f, "fixed point cannot represent shape {entry}: {reason}")
+            }
         }
     }
 }

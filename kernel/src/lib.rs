@@ -44,11 +44,15 @@
 
 pub mod accel;
 pub mod analytic;
+#[cfg(feature = "fixed")]
+pub mod arith;
 pub mod camera;
 pub mod colormap;
 pub mod digest;
 pub mod error;
 pub mod estimator;
+#[cfg(feature = "fixed")]
+mod fixed;
 pub mod ids;
 pub mod light;
 pub mod light_importance;
@@ -66,9 +70,13 @@ pub mod shape;
 pub mod study;
 pub mod tonemap;
 
+#[cfg(feature = "fixed")]
+pub use arith::Arith;
 pub use camera::{Camera, CameraDesc, Film, FovAxis};
 pub use colormap::{NO_LIGHT, weight_color};
 pub use digest::{Digest, render_digest};
+#[cfg(feature = "fixed")]
+pub use error::Unrepresentable;
 pub use error::{Collection, Field, SceneError};
 pub use estimator::{
     Estimate, MAX_CONTRIBUTION, Shading, TechniqueEstimate, estimate_direct, estimate_direct_multi_sample,

@@ -7,8 +7,12 @@
 use heapless::Vec;
 
 use crate::accel::{CameraRays, Filter, Packets, PointRays, RaysFrom, Target};
+#[cfg(feature = "fixed")]
+use crate::arith::Arith;
 use crate::camera::{Camera, CameraDesc, Film};
 use crate::error::{Collection, SceneError};
+#[cfg(feature = "fixed")]
+use crate::fixed::FixedScene;
 use crate::ids::{LightId, MaterialId, ShapeId};
 use crate::light::Light;
 use crate::light_importance::{LightGeometry, LightTable};
@@ -67,6 +71,10 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     light_geometry: LightTable<L>,
     light_power: Vec<f32, L>,
     power_selection: GridDistribution<L>,
+    /// The fixed-point copies of the shapes while the ray queries run in fixed point
+    /// ([`Scene::enable_arith`]; empty otherwise), filled in place.
+    #[cfg(feature = "fixed")]
+    fixed: FixedScene<S>,
 }
 
 fn index16(len: usize, what: Collection) -> Result<u16, SceneError> {
@@ -87,6 +95,8 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             light_geometry: LightTable::default(),
             light_power: Vec::new(),
             power_selection: GridDistribution::default(),
+            #[cfg(feature = "fixed")]
+            fixed: FixedScene::off(),
         })
     }
 
@@ -110,11 +120,22 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             return Err(SceneError::UnknownMaterial);
         }
         let id = index16(self.objects.len(), Collection::Shapes)?;
+        // In fixed point the new shape may change the scale: all are checked before anything is
+        // added, so that a shape the format cannot represent leaves the scene as it was.
+        #[cfg(feature = "fixed")]
+        if self.fixed.is_on() {
+            let shapes = self.objects.iter().map(|o| &o.shape).chain(core::iter::once(&shape));
+            FixedScene::<S>::check(shapes, self.camera.desc().origin)?;
+        }
         self.objects
             .push(Object { shape, material, light: None })
             .map_err(|_| SceneError::CapacityExceeded(Collection::Shapes))?;
         self.packets.push(usize::from(id), &shape);
         self.camera_rays.push(&shape);
+        #[cfg(feature = "fixed")]
+        if self.fixed.is_on() {
+            self.fixed.turn_on(self.objects.iter().map(|o| &o.shape), self.camera.desc().origin)?;
+        }
         Ok(ShapeId::new(id))
     }
 
@@ -153,6 +174,42 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         self.light_power.push(power).map_err(|_| full)?;
         self.power_selection = GridDistribution::new(&self.light_power);
         Ok(LightId::new(id))
+    }
+
+    /// Runs the ray queries in `arith` from now on (shading stays f32; feature `fixed`).
+    /// [`Arith::Fixed`] picks the scale from the scene's extent and fills the fixed-point copies
+    /// of the shapes in place; it fails with [`SceneError::NotRepresentable`], naming the shape,
+    /// when the format cannot represent the scene accurately, and the queries then run in f32.
+    /// Shapes added later are checked as they are added.
+    #[cfg(feature = "fixed")]
+    pub fn enable_arith(&mut self, arith: Arith) -> Result<(), SceneError> {
+        match arith {
+            Arith::F32 => {
+                self.fixed.turn_off();
+                Ok(())
+            }
+            Arith::Fixed => {
+                self.fixed.turn_on(self.objects.iter().map(|o| &o.shape), self.camera.desc().origin)
+            }
+        }
+    }
+
+    /// Whether `arith` can represent this scene (`Err` names the shape that it cannot; feature
+    /// `fixed`).
+    #[cfg(feature = "fixed")]
+    pub fn supports(&self, arith: Arith) -> Result<(), SceneError> {
+        match arith {
+            Arith::F32 => Ok(()),
+            Arith::Fixed => {
+                FixedScene::<S>::check(self.objects.iter().map(|o| &o.shape), self.camera.desc().origin)
+            }
+        }
+    }
+
+    /// The arithmetic of the ray queries (feature `fixed`).
+    #[cfg(feature = "fixed")]
+    pub fn arith(&self) -> Arith {
+        if self.fixed.is_on() { Arith::Fixed } else { Arith::F32 }
     }
 
     /// The camera.
@@ -237,6 +294,12 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         skip: Option<ShapeId>,
     ) -> Option<Hit> {
         let skip = skip.map_or(usize::MAX, ShapeId::index);
+        #[cfg(feature = "fixed")]
+        if self.fixed.is_on() {
+            let ray = from.ray(dir);
+            let (t, i) = self.fixed.nearest(&self.objects, &ray, t_min, t_max, false, |i| i != skip)?;
+            return self.hit(&ray, t, i);
+        }
         let (t, i) = self.packets.nearest(from, dir, t_min, t_max, Filter::AllBut(skip), &self.objects)?;
         self.hit(&from.ray(dir), t, i)
     }
@@ -245,7 +308,12 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// the queries that take them.
     #[inline(always)]
     pub(crate) fn with_rays_from<R>(&self, origin: Vec3, f: impl FnOnce(&PointRays<S>) -> R) -> R {
-        PointRays::with(origin, self.objects.iter().map(|o| &o.shape), f)
+        // The fixed-point queries do not read the f32 origin terms: none are computed.
+        #[cfg(feature = "fixed")]
+        let objects: &[Object] = if self.fixed.is_on() { &[] } else { &self.objects };
+        #[cfg(not(feature = "fixed"))]
+        let objects = &self.objects;
+        PointRays::with(origin, objects.iter().map(|o| &o.shape), f)
     }
 
     /// The [`Hit`] record for object `object` at distance `t` along `ray`.
@@ -276,6 +344,19 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         skip: ShapeId,
     ) -> Option<(Hit, LightId, Rgb)> {
         let skip = skip.index();
+        #[cfg(feature = "fixed")]
+        if self.fixed.is_on() {
+            // The first surface, if it is an emitter's front side.
+            let ray = from.ray(dir);
+            let (t, best) =
+                self.fixed.nearest(&self.objects, &ray, 0.0, f32::INFINITY, false, |i| i != skip)?;
+            let hit = self.hit(&ray, t, best).filter(|h| h.front)?;
+            let light = self.objects.get(best)?.light?;
+            return match self.lights.get(light.index())? {
+                Light::Area { radiance, .. } => Some((hit, light, *radiance)),
+                Light::Point { .. } => None,
+            };
+        }
         let emitters = Filter::EmittersBut(skip);
         let (t, best) = self.packets.nearest(from, dir, 0.0, f32::INFINITY, emitters, &self.objects)?;
         let hit = self.hit(&from.ray(dir), t, best)?;
@@ -317,7 +398,15 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             if i == skip.index() {
                 continue;
             }
-            let Some(t) = o.shape.intersect(&ray, 0.0, f32::INFINITY) else { continue };
+            #[cfg(feature = "fixed")]
+            let t = if self.fixed.is_on() {
+                self.fixed.intersect(i, &o.shape, &ray, 0.0, f32::INFINITY)
+            } else {
+                o.shape.intersect(&ray, 0.0, f32::INFINITY)
+            };
+            #[cfg(not(feature = "fixed"))]
+            let t = o.shape.intersect(&ray, 0.0, f32::INFINITY);
+            let Some(t) = t else { continue };
             let Some(hit) = self.hit(&ray, t, i).filter(|h| h.front) else { continue };
             if let Some(Light::Area { radiance, .. }) = self.lights.get(light.index()) {
                 f(hit, light, *radiance, nearest == Some(hit.object));
@@ -341,6 +430,12 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         a: ShapeId,
         b: Option<ShapeId>,
     ) -> bool {
+        #[cfg(feature = "fixed")]
+        if self.fixed.is_on() {
+            let (ia, ib) = (a.index(), b.map_or(usize::MAX, ShapeId::index));
+            let keep = |i| i != ia && i != ib;
+            return self.fixed.nearest(&self.objects, &from.ray(dir), 0.0, t_max, true, keep).is_none();
+        }
         let others = Filter::AllButTwo(a.index(), b.map_or(usize::MAX, ShapeId::index));
         !self.packets.any(from, dir, 0.0, t_max, others, &self.objects)
     }

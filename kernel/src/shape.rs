@@ -329,6 +329,12 @@ impl Quad {
         ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&v)).then_some(t)
     }
 
+    /// Corner `p0` and the edges `e1`, `e2` (for the fixed-point path, `kernel/src/fixed.rs`).
+    #[cfg(feature = "fixed")]
+    pub(crate) fn edges(&self) -> (Vec3, Vec3, Vec3) {
+        (self.p0, self.e1, self.e2)
+    }
+
     /// Unit normal, plane offset `n . p0`, corner `p0`, and the dual axes.
     #[cfg_attr(target_os = "none", allow(dead_code))]
     pub(crate) fn parts(&self) -> (Vec3, f32, Vec3, Vec3, Vec3) {

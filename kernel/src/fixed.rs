@@ -1,0 +1,496 @@
+//! Fixed-point ray queries ([`Arith::Fixed`](crate::arith::Arith), feature `fixed`) for cores
+//! without an FPU: closest hit and visibility for spheres and quads in integers, results
+//! converted back to f32 for shading. Integers give the same bits on every machine.
+//!
+//! Scale: from the scene's extent B (the largest coordinate magnitude of any shape or the
+//! camera), one unit is 2^-(26 - floor(log2 B)), so every scene coordinate is below 2^27 units.
+//! Directions and normals are Q30. Bounds (|o| <= 2^28 units, checked per ray; |c|, |p0| <
+//! 2^27; |d_i| <= 2^30 + 2^21; dual axes below 2^24) keep every i64 product below 2^62. A ray
+//! outside those bounds (or not finite) takes the f32 test. A scene whose spheres or quad edges
+//! are below 2^12 units, or whose quad axes are too skewed, is rejected at construction
+//! ([`SceneError::NotRepresentable`]).
+//!
+//! The copies are kept in the scene ([`FixedScene`]) and filled there in place, shape by shape
+//! (no copy of the whole table on the stack); stored as i32 where the bounds allow (RAM).
+
+use heapless::Vec;
+
+use crate::accel::Target;
+use crate::error::{Collection, SceneError, Unrepresentable};
+use crate::math::Vec3;
+use crate::shape::{Ray, Shape};
+
+/// Fraction bits of directions and normals.
+const Q: u32 = 30;
+/// The smallest sphere radius or quad edge, in units.
+const MIN_SIZE: f32 = 4096.0;
+/// Largest ray origin coordinate magnitude, in units.
+const MAX_ORIGIN: i64 = 1 << 28;
+/// Largest direction component magnitude, Q30 (a unit vector with rounding).
+const MAX_DIR: i64 = (1 << Q) + (1 << 21);
+/// Largest dual-axis component, Q30 per unit.
+const MAX_AXIS: f32 = 16_777_216.0; // 2^24
+/// Beyond this distance (units) nothing in the scene can be met.
+const MAX_T: i64 = 1 << 31;
+
+/// A shape in units (positions), Q30 (normal) and Q30 per unit (dual axes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum FixedShape {
+    /// Centre, radius and squared radius.
+    Sphere { c: [i32; 3], r: i32, r2: i64 },
+    /// Corner, unit normal, plane offset `n . p0` (Q30 units), dual axes.
+    Quad { p0: [i32; 3], n: [i32; 3], plane: i64, sa: [i32; 3], ta: [i32; 3] },
+}
+
+/// A ray in units (origin) and Q30 (direction), with its open distance range `(lo, hi)` in
+/// units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct FixedRay {
+    o: [i64; 3],
+    d: [i64; 3],
+    lo: i64,
+    hi: i64,
+}
+
+/// The fixed-point copies of a scene's shapes (one per object, in order) and their scale, while
+/// the ray queries run in fixed point; empty and off otherwise.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct FixedScene<const S: usize> {
+    /// s: world to units is 2^s.
+    shift: i32,
+    /// 2^-s.
+    inv: f32,
+    shapes: Vec<FixedShape, S>,
+    on: bool,
+}
+
+fn pow2(e: i32) -> f32 {
+    f32::from_bits(((127 + e.clamp(-126, 127)) as u32) << 23)
+}
+
+fn v3(v: Vec3, k: f32) -> [i32; 3] {
+    [(v.x * k) as i32, (v.y * k) as i32, (v.z * k) as i32]
+}
+
+fn wide(v: &[i32; 3]) -> [i64; 3] {
+    [i64::from(v[0]), i64::from(v[1]), i64::from(v[2])]
+}
+
+fn dot(a: &[i64; 3], b: &[i64; 3]) -> i64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// floor(sqrt(x)) for x >= 0 (bit by bit, integer only).
+fn isqrt(x: i64) -> i64 {
+    let mut x = x.max(0) as u64;
+    let mut r: u64 = 0;
+    let mut bit: u64 = 1 << 62;
+    while bit > x {
+        bit >>= 2;
+    }
+    while bit != 0 {
+        if x >= r + bit {
+            x -= r + bit;
+            r = (r >> 1) + bit;
+        } else {
+            r >>= 1;
+        }
+        bit >>= 2;
+    }
+    r as i64
+}
+
+/// trunc(x 2^s) for s <= 126 (`None` for NaN) from the bits of x, with no soft-float call:
+/// what `(x * 2^s) as i64` gives for |x 2^s| < 2^40, and +-2^40 beyond (infinities too).
+#[inline]
+fn trunc_scaled(x: f32, s: i32) -> Option<i64> {
+    let b = x.to_bits();
+    let a = b & 0x7fff_ffff;
+    if a > 0x7f80_0000 {
+        return None;
+    }
+    // The exponent of |x| 2^s (below 0 for subnormal x: s <= 126).
+    let e = (a >> 23) as i32 - 127 + s;
+    let v = if e < 0 {
+        0
+    } else if e >= 40 {
+        1i64 << 40
+    } else {
+        let m = i64::from((a & 0x7f_ffff) | 0x80_0000);
+        if e >= 23 { m << (e - 23) } else { m >> (23 - e) }
+    };
+    Some(if b >> 31 != 0 { -v } else { v })
+}
+
+/// trunc(x 2^s) when its magnitude is at most `max` (`None` for NaN).
+#[inline]
+fn bounded(x: f32, s: i32, max: i64) -> Option<i64> {
+    trunc_scaled(x, s).filter(|v| v.abs() <= max)
+}
+
+/// The exponent s of the scale 2^s for `shapes` seen from `camera`.
+fn exponent<'a>(shapes: impl Iterator<Item = &'a Shape>, camera: Vec3) -> Result<i32, SceneError> {
+    let mut b = camera.abs().max_element();
+    for shape in shapes {
+        let e = match shape.as_sphere() {
+            Some((c, r)) => c.abs().max_element() + r,
+            None => {
+                shape.corners().map_or(0.0, |cs| cs.iter().fold(0.0f32, |m, c| m.max(c.abs().max_element())))
+            }
+        };
+        // NaN-propagating: a NaN extent is not finite below.
+        b = if e > b || e.is_nan() { e } else { b };
+    }
+    if !b.is_finite() {
+        return Err(SceneError::NotRepresentable { entry: 0, reason: Unrepresentable::Extent });
+    }
+    let e = (((b.to_bits() >> 23) & 0xff) as i32 - 127).max(-100);
+    Ok(26 - e)
+}
+
+/// Shape `entry` at the scale 2^s, or why the format cannot represent it.
+fn convert(shape: &Shape, entry: usize, s: i32) -> Result<FixedShape, SceneError> {
+    let entry = u16::try_from(entry).map_err(|_| SceneError::CapacityExceeded(Collection::Shapes))?;
+    let fail = |reason| SceneError::NotRepresentable { entry, reason };
+    let scale = pow2(s);
+    match shape {
+        Shape::Sphere(_) => {
+            let (c, r) = shape.as_sphere().ok_or_else(|| fail(Unrepresentable::Extent))?;
+            let ru = r * scale;
+            if !(ru >= MIN_SIZE) {
+                return Err(fail(Unrepresentable::TooSmall));
+            }
+            let r = ru as i32; // below 2^27
+            Ok(FixedShape::Sphere { c: v3(c, scale), r, r2: i64::from(r) * i64::from(r) })
+        }
+        Shape::Quad(q) => {
+            let (p0, e1, e2) = q.edges();
+            if !(e1.length() * scale >= MIN_SIZE && e2.length() * scale >= MIN_SIZE) {
+                return Err(fail(Unrepresentable::TooSmall));
+            }
+            let (n, _, _, sa, ta) = q.parts();
+            let k = pow2(Q as i32 - s);
+            if !(sa.abs().max_element() * k < MAX_AXIS && ta.abs().max_element() * k < MAX_AXIS) {
+                return Err(fail(Unrepresentable::Skewed));
+            }
+            let (p0, n) = (v3(p0, scale), v3(n, pow2(Q as i32)));
+            let plane = dot(&wide(&n), &wide(&p0));
+            Ok(FixedShape::Quad { p0, n, plane, sa: v3(sa, k), ta: v3(ta, k) })
+        }
+    }
+}
+
+/// The distance to `shape` along `r` in `(r.lo, r.hi)`, in units.
+#[inline]
+fn distance(shape: &FixedShape, r: &FixedRay) -> Option<i64> {
+    let inside = |t: i64| t > r.lo && t < r.hi;
+    match shape {
+        FixedShape::Sphere { c, r: radius, r2 } => {
+            let c = wide(c);
+            let f = [r.o[0] - c[0], r.o[1] - c[1], r.o[2] - c[2]];
+            let b = dot(&f, &r.d) >> Q;
+            // Cheap rejects before the rest: both hits are at or beyond -b - r (h <= r), and a
+            // centre behind an origin outside the sphere (a coordinate of f beyond r) is missed.
+            let rad = i64::from(*radius);
+            if -b - rad >= r.hi || (b > 0 && f.iter().any(|x| x.abs() > rad)) {
+                return None;
+            }
+            let l = [f[0] - ((r.d[0] * b) >> Q), f[1] - ((r.d[1] * b) >> Q), f[2] - ((r.d[2] * b) >> Q)];
+            let disc = r2 - dot(&l, &l);
+            if disc < 0 {
+                return None;
+            }
+            let h = isqrt(disc);
+            let (near, far) = (-b - h, -b + h);
+            if inside(near) {
+                Some(near)
+            } else if inside(far) {
+                Some(far)
+            } else {
+                None
+            }
+        }
+        FixedShape::Quad { p0, n, plane, sa, ta } => {
+            let n = wide(n);
+            let denom = dot(&n, &r.d) >> Q;
+            let num = plane - dot(&n, &r.o);
+            if denom == 0 || (num < 0) != (denom < 0) {
+                return None;
+            }
+            // t = floor(num / denom) >= 0 is in (lo, hi) exactly when |num| >= (lo + 1) |denom|
+            // and |num| < hi |denom|: no division for the planes out of range (|denom| <= 2^31,
+            // hi <= 2^31: the products fit).
+            let (an, ad) = (num.abs(), denom.abs());
+            if an >= r.hi * ad || an < (r.lo + 1) * ad {
+                return None;
+            }
+            let t = an.checked_div(ad)?;
+            let p0 = wide(p0);
+            let q = [
+                r.o[0] + ((r.d[0] * t) >> Q) - p0[0],
+                r.o[1] + ((r.d[1] * t) >> Q) - p0[1],
+                r.o[2] + ((r.d[2] * t) >> Q) - p0[2],
+            ];
+            let (s, v) = (dot(&q, &wide(sa)), dot(&q, &wide(ta)));
+            let one = 1i64 << Q;
+            ((0..=one).contains(&s) && (0..=one).contains(&v)).then_some(t)
+        }
+    }
+}
+
+impl<const S: usize> FixedScene<S> {
+    /// Off: no copies, the ray queries run in f32.
+    pub(crate) const fn off() -> Self {
+        Self { shift: 0, inv: 1.0, shapes: Vec::new(), on: false }
+    }
+
+    /// Whether the ray queries run in fixed point.
+    #[inline(always)]
+    pub(crate) fn is_on(&self) -> bool {
+        self.on
+    }
+
+    /// Back to f32: drops the copies.
+    pub(crate) fn turn_off(&mut self) {
+        self.shapes.clear();
+        self.on = false;
+    }
+
+    /// Whether the format can represent `shapes` seen from `camera` (`Err` names the first shape
+    /// it cannot). Stores nothing.
+    pub(crate) fn check<'a>(
+        shapes: impl Iterator<Item = &'a Shape> + Clone,
+        camera: Vec3,
+    ) -> Result<(), SceneError> {
+        let s = exponent(shapes.clone(), camera)?;
+        shapes.enumerate().try_for_each(|(i, shape)| convert(shape, i, s).map(|_| ()))
+    }
+
+    /// Turns fixed point on for `shapes` (every object's, in order) seen from `camera`: the scale
+    /// from their extent, then the copies, pushed one by one. On an error the queries stay f32.
+    pub(crate) fn turn_on<'a>(
+        &mut self,
+        shapes: impl Iterator<Item = &'a Shape> + Clone,
+        camera: Vec3,
+    ) -> Result<(), SceneError> {
+        self.turn_off();
+        let result = self.fill(shapes, camera);
+        if result.is_err() {
+            self.turn_off();
+        }
+        result
+    }
+
+    fn fill<'a>(
+        &mut self,
+        shapes: impl Iterator<Item = &'a Shape> + Clone,
+        camera: Vec3,
+    ) -> Result<(), SceneError> {
+        let s = exponent(shapes.clone(), camera)?;
+        for (i, shape) in shapes.enumerate() {
+            let f = convert(shape, i, s)?;
+            self.shapes.push(f).map_err(|_| SceneError::CapacityExceeded(Collection::Shapes))?;
+        }
+        (self.shift, self.inv, self.on) = (s, pow2(-s), true);
+        Ok(())
+    }
+
+    /// `ray` with the range `(t_min, t_max)` in fixed point, or `None` when it is outside the
+    /// format's bounds.
+    #[inline]
+    fn ray(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<FixedRay> {
+        let (k, q) = (self.shift, Q as i32);
+        let o = [
+            bounded(ray.origin.x, k, MAX_ORIGIN)?,
+            bounded(ray.origin.y, k, MAX_ORIGIN)?,
+            bounded(ray.origin.z, k, MAX_ORIGIN)?,
+        ];
+        let d = [
+            bounded(ray.dir.x, q, MAX_DIR)?,
+            bounded(ray.dir.y, q, MAX_DIR)?,
+            bounded(ray.dir.z, q, MAX_DIR)?,
+        ];
+        // Saturating conversions (+inf is i64::MAX, NaN is 0), then clamped: the quad test's
+        // products stay in range.
+        let lo = trunc_scaled(t_min, k).unwrap_or(0).clamp(-MAX_T, MAX_T);
+        let hi = trunc_scaled(t_max, k).unwrap_or(0).clamp(-MAX_T, MAX_T);
+        Some(FixedRay { o, d, lo, hi })
+    }
+
+    /// The nearest hit in `(t_min, t_max)` along `ray` among the `objects` (the scene's, in order)
+    /// that `keep` admits, as `(distance, index)`: the lowest index among equal distances. With
+    /// `any`, the first hit found. A ray outside the format's bounds takes the f32 test.
+    #[inline]
+    pub(crate) fn nearest<T: Target>(
+        &self,
+        objects: &[T],
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        any: bool,
+        keep: impl Fn(usize) -> bool,
+    ) -> Option<(f32, usize)> {
+        let Some(mut r) = self.ray(ray, t_min, t_max) else {
+            let (mut t_far, mut best) = (t_max, None);
+            for (i, o) in objects.iter().enumerate() {
+                if keep(i) {
+                    if let Some(t) = o.shape().intersect(ray, t_min, t_far) {
+                        (t_far, best) = (t, Some(i));
+                        if any {
+                            break;
+                        }
+                    }
+                }
+            }
+            return best.map(|i| (t_far, i));
+        };
+        let mut best = None;
+        for (i, f) in self.shapes.iter().enumerate() {
+            if keep(i) {
+                if let Some(t) = distance(f, &r) {
+                    (r.hi, best) = (t, Some(i));
+                    if any {
+                        break;
+                    }
+                }
+            }
+        }
+        best.map(|i| (r.hi as f32 * self.inv, i))
+    }
+
+    /// The distance to object `i` (shape `shape`) along `ray` in `(t_min, t_max)`.
+    #[inline]
+    pub(crate) fn intersect(
+        &self,
+        i: usize,
+        shape: &Shape,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<f32> {
+        match self.ray(ray, t_min, t_max) {
+            Some(r) => distance(self.shapes.get(i)?, &r).map(|t| t as f32 * self.inv),
+            None => shape.intersect(ray, t_min, t_max),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    impl Target for Shape {
+        fn shape(&self) -> &Shape {
+            self
+        }
+        fn emits(&self) -> bool {
+            false
+        }
+    }
+
+    fn scene<const S: usize>(shapes: &[Shape], camera: Vec3) -> Result<FixedScene<S>, SceneError> {
+        let mut fx = FixedScene::off();
+        fx.turn_on(shapes.iter(), camera)?;
+        Ok(fx)
+    }
+
+    #[test]
+    fn trunc_scaled_is_the_cast_of_the_product() {
+        let mut x = 0x9e37_79b9u32;
+        for _ in 0..100_000 {
+            x = x.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+            let v = f32::from_bits(x);
+            for s in [-20, 0, 5, 22, 30] {
+                let want = (v * pow2(s)) as i64;
+                let want = if v.is_nan() { None } else { Some(want.clamp(-(1 << 40), 1 << 40)) };
+                assert_eq!(trunc_scaled(v, s), want, "{v:e} 2^{s}");
+            }
+        }
+        assert_eq!(trunc_scaled(f32::INFINITY, 3), Some(1 << 40));
+        assert_eq!(trunc_scaled(-1.5, 1), Some(-3));
+    }
+
+    #[test]
+    fn isqrt_is_floor_sqrt() {
+        for x in [0i64, 1, 2, 3, 4, 15, 16, 17, 1 << 40, (1 << 60) + 12345, i64::MAX] {
+            let r = isqrt(x);
+            assert!(r * r <= x && (r + 1).checked_mul(r + 1).is_none_or(|s| s > x), "{x}");
+        }
+    }
+
+    #[test]
+    fn agrees_with_f32_on_a_sphere_and_a_quad() {
+        let shapes = [
+            Shape::sphere(Vec3::new(0.0, 0.0, -3.0), 1.0).unwrap(),
+            Shape::quad([
+                Vec3::new(-2.0, -1.0, 2.0),
+                Vec3::new(2.0, -1.0, 2.0),
+                Vec3::new(2.0, -1.0, -6.0),
+                Vec3::new(-2.0, -1.0, -6.0),
+            ])
+            .unwrap(),
+        ];
+        let fx: FixedScene<2> = scene(&shapes, Vec3::new(0.0, 0.0, 1.0)).unwrap();
+        assert!(fx.is_on());
+        let (mut hits, mut differ) = (0, 0);
+        for k in 0..200 {
+            let a = k as f32 * 0.031;
+            let dir = Vec3::new(a.sin() * 0.4, a.cos() * 0.3 - 0.2, -1.0).normalize();
+            let ray = Ray { origin: Vec3::new(0.0, 0.0, 1.0), dir };
+            for (i, s) in shapes.iter().enumerate() {
+                let want = s.intersect(&ray, 0.0, f32::INFINITY);
+                let got = fx.intersect(i, s, &ray, 0.0, f32::INFINITY);
+                match (want, got) {
+                    (Some(w), Some(g)) => {
+                        hits += 1;
+                        assert!((w - g).abs() < 1e-4, "{w} {g}");
+                    }
+                    (None, None) => {}
+                    // Grazing rays may differ by a rounding either way.
+                    _ => differ += 1,
+                }
+            }
+            // The nearest of both, and the any-hit query, agree with the per-shape answers.
+            let want = shapes
+                .iter()
+                .enumerate()
+                .filter_map(|(i, s)| fx.intersect(i, s, &ray, 0.0, f32::INFINITY).map(|t| (t, i)))
+                .fold(
+                    None,
+                    |b: Option<(f32, usize)>, h| if b.is_none_or(|b| h.0 < b.0) { Some(h) } else { b },
+                );
+            assert_eq!(fx.nearest(&shapes, &ray, 0.0, f32::INFINITY, false, |_| true), want);
+            assert_eq!(
+                fx.nearest(&shapes, &ray, 0.0, f32::INFINITY, true, |_| true).is_some(),
+                want.is_some()
+            );
+        }
+        assert!(hits > 100 && differ <= 2, "{hits} hits, {differ} differ");
+    }
+
+    #[test]
+    fn rays_outside_the_bounds_take_the_f32_test() {
+        let shapes = [Shape::sphere(Vec3::new(0.0, 0.0, -3.0), 1.0).unwrap()];
+        let fx: FixedScene<1> = scene(&shapes, Vec3::ZERO).unwrap();
+        let ray = Ray { origin: Vec3::new(0.0, 0.0, 1e6), dir: Vec3::new(0.0, 0.0, -1.0) };
+        assert_eq!(
+            fx.intersect(0, &shapes[0], &ray, 0.0, f32::INFINITY),
+            shapes[0].intersect(&ray, 0.0, f32::INFINITY)
+        );
+        let nan = Ray { origin: Vec3::new(f32::NAN, 0.0, 0.0), dir: Vec3::new(0.0, 0.0, -1.0) };
+        assert_eq!(fx.nearest(&shapes, &nan, 0.0, f32::INFINITY, false, |_| true), None);
+    }
+
+    #[test]
+    fn tiny_sphere_is_rejected_with_its_entry() {
+        let shapes = [
+            Shape::sphere(Vec3::new(0.0, 0.0, -3.0), 1.0).unwrap(),
+            Shape::sphere(Vec3::new(0.0, 0.0, -100.0), 1e-4).unwrap(),
+        ];
+        let want = Err(SceneError::NotRepresentable { entry: 1, reason: Unrepresentable::TooSmall });
+        assert_eq!(FixedScene::<2>::check(shapes.iter(), Vec3::ZERO), want);
+        let mut fx: FixedScene<2> = FixedScene::off();
+        assert_eq!(fx.turn_on(shapes.iter(), Vec3::ZERO), want);
+        assert!(!fx.is_on() && fx.shapes.is_empty());
+    }
+}
