@@ -393,38 +393,18 @@ cmd_measure() {
   grep '^fixed point:' "$WORK/m0-fixed.log"
 
   step "measure: summary"
-  local per tile stackline v t r d b u fb verdict figures="$WORK/figures.txt"
+  local per stackline v t r d b u fb figures="$WORK/figures.txt"
   : >"$figures"
   for c in "${CORES[@]}"; do
     read -r core pre target film goal <<<"$c"
-    per=$(sed -n 's/^measure: camera_sample: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-measure.log")
-    tile=$(sed -n 's/^measure: render_tile: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-measure.log")
-    stackline=$(sed -n 's/^stack peak: \(.*\)/\1/p' "$WORK/$pre-size.log")
-    read -r v t r d b u < <(sections "$WORK/$pre-size-board.elf")
-    fb=$(symbol_size "$WORK/$pre-size-board.elf" FRAMEBUFFER)
-    verdict="over the target"
-    awk -v p="${per:-1e99}" -v g="$goal" 'BEGIN{exit !(p <= g)}' && verdict="within the target"
-    say "$core: ${per:-?} instructions per camera sample, target $goal: $verdict" \
-      "(${tile:-?} with tone map and store);" \
-      "board build: text $t, rodata $r, data $d, bss $b (framebuffer $fb, other RAM $((d + b + u - fb)));" \
-      "stack $stackline"
+    summarize "$core" "$goal" "$pre" "$WORK/$pre-size-board.elf" "board build"
     record_figures "$figures" "$core" "$per" "$t" "$r" $((d + b + u - fb)) "${stackline%% *}"
   done
   # The fixed-point builds: printed against the target (not in budget.json: scripts/budget.sh
   # reads a fixed list of keys).
   for c in "${FIXED_CORES[@]}"; do
     read -r core pre target film goal <<<"$c"
-    per=$(sed -n 's/^measure: camera_sample: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-fixed-measure.log")
-    tile=$(sed -n 's/^measure: render_tile: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-fixed-measure.log")
-    stackline=$(sed -n 's/^stack peak: \(.*\)/\1/p' "$WORK/$pre-fixed-size.log")
-    read -r v t r d b u < <(sections "$WORK/$pre-fixed-size.elf")
-    fb=$(symbol_size "$WORK/$pre-fixed-size.elf" FRAMEBUFFER)
-    verdict="over the target"
-    awk -v p="${per:-1e99}" -v g="$goal" 'BEGIN{exit !(p <= g)}' && verdict="within the target"
-    say "$core fixed: ${per:-?} instructions per camera sample, target $goal: $verdict" \
-      "(${tile:-?} with tone map and store);" \
-      "qemu build: text $t, rodata $r, data $d, bss $b (framebuffer $fb, other RAM $((d + b + u - fb)));" \
-      "stack $stackline"
+    summarize "$core fixed" "$goal" "$pre-fixed" "$WORK/$pre-fixed-size.elf" "qemu build"
   done
   if [ "${1:-}" = check ]; then
     step "budget: figures against firmware/budget.json"
@@ -437,6 +417,23 @@ cmd_measure() {
 
 # record_figures FILE CORE INSTRUCTIONS TEXT RODATA RAM STACK: one "key value" line per figure
 # (read by scripts/budget.sh).
+# One core's summary line from its measure and size logs (logs $WORK/PRE-measure.log and
+# $WORK/PRE-size.log, sections of ELF); leaves per, t, r, d, b, u, fb and stackline set for the caller.
+summarize() {
+  local label=$1 goal=$2 pre=$3 elf=$4 build=$5 tile verdict
+  per=$(sed -n 's/^measure: camera_sample: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-measure.log")
+  tile=$(sed -n 's/^measure: render_tile: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-measure.log")
+  stackline=$(sed -n 's/^stack peak: \(.*\)/\1/p' "$WORK/$pre-size.log")
+  read -r v t r d b u < <(sections "$elf")
+  fb=$(symbol_size "$elf" FRAMEBUFFER)
+  verdict="over the target"
+  awk -v p="${per:-1e99}" -v g="$goal" 'BEGIN{exit !(p <= g)}' && verdict="within the target"
+  say "$label: ${per:-?} instructions per camera sample, target $goal: $verdict" \
+    "(${tile:-?} with tone map and store);" \
+    "$build: text $t, rodata $r, data $d, bss $b (framebuffer $fb, other RAM $((d + b + u - fb)));" \
+    "stack $stackline"
+}
+
 record_figures() {
   local file=$1 core
   core=$(tr '[:upper:]' '[:lower:]' <<<"$2")
