@@ -310,7 +310,7 @@ impl<const S: usize> FixedScene<S> {
             bounded(ray.dir.y, q, MAX_DIR)?,
             bounded(ray.dir.z, q, MAX_DIR)?,
         ];
-        // Saturating conversions (+inf is i64::MAX, NaN is 0), then clamped: the quad test's
+        // Saturating conversions (+inf is 2^40, NaN is 0), then clamped: the quad test's
         // products stay in range.
         let lo = trunc_scaled(t_min, k).unwrap_or(0).clamp(-MAX_T, MAX_T);
         let hi = trunc_scaled(t_max, k).unwrap_or(0).clamp(-MAX_T, MAX_T);
