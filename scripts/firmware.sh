@@ -329,6 +329,16 @@ CORES=("M4F m4 $M4 160x120 2000" "M0 m0 $M0 64x48 20000" "RV32IMC rv $RV 64x48 2
 # The cores measured with the fixed-point ray queries (feature fixed) too.
 FIXED_CORES=("M0 m0 $M0 64x48 20000" "RV32IMC rv $RV 64x48 20000")
 
+# Runs the named builds for TARGET under QEMU and prints each one's stack peak.
+stack_peaks() { # TARGET NAME...
+  local target=$1 n
+  shift
+  for n in "$@"; do
+    run_qemu "$n" "$target" || die "$n: QEMU exit status $? (log $WORK/$n.log)"
+    printf '%-18s %s\n' "$n" "$(grep -m1 '^stack peak:' "$WORK/$n.log")"
+  done
+}
+
 cmd_measure() {
   setup binutils
   local c core pre target film goal n
@@ -362,17 +372,11 @@ cmd_measure() {
   step "measure: peak stack (stack painting; target <= 4096 bytes)"
   for c in "${CORES[@]}"; do
     read -r core pre target film goal <<<"$c"
-    for n in "$pre-size" "$pre-measure"; do
-      run_qemu "$n" "$target" || die "$n: QEMU exit status $? (log $WORK/$n.log)"
-      printf '%-12s %s\n' "$n" "$(grep -m1 '^stack peak:' "$WORK/$n.log")"
-    done
+    stack_peaks "$target" "$pre-size" "$pre-measure"
   done
   for c in "${FIXED_CORES[@]}"; do
     read -r core pre target film goal <<<"$c"
-    for n in "$pre-fixed-size" "$pre-fixed-measure"; do
-      run_qemu "$n" "$target" || die "$n: QEMU exit status $? (log $WORK/$n.log)"
-      printf '%-18s %s\n' "$n" "$(grep -m1 '^stack peak:' "$WORK/$n.log")"
-    done
+    stack_peaks "$target" "$pre-fixed-size" "$pre-fixed-measure"
   done
 
   step "measure: instructions per camera sample (Veach, 1 light + 1 BSDF sample, power heuristic)"
