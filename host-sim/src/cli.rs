@@ -408,14 +408,8 @@ fn render(args: &RenderArgs) -> Result<(), SimError> {
 
     let batch = RenderBatch { settings: &[settings], message: loaded.file.name() };
     let batch = loaded.visit(film, crate::render::ArithBatch { arith: args.arith, batch })?.map_err(|e| {
-        let entry = match e {
-            picomis::SceneError::NotRepresentable { entry, .. } => {
-                loaded.file.shape_entry(usize::from(entry))
-            }
-            _ => None,
-        };
-        let entry = entry.map(|n| format!(" ({n})")).unwrap_or_default();
-        SimError::Usage(format!("{}: --arith {}: {e}{entry}", loaded.file.name(), args.arith.name()))
+        let e = crate::render::scene_error(&loaded.file, &e);
+        SimError::Usage(format!("{}: --arith {}: {e}", loaded.file.name(), args.arith.name()))
     })?;
     let estimates = &batch.images[0];
     let image = Image {

@@ -109,3 +109,13 @@ impl SceneVisitor for ArithBatch<'_> {
         Ok(self.batch.visit(scene))
     }
 }
+
+/// `e` in words, with the scene file's name of the entry that fixed point cannot represent
+/// (`fixed point cannot represent shape 1: ... (shapes[1] "tiny_light")`).
+pub fn scene_error(file: &picomis_format::SceneFile, e: &picomis::SceneError) -> String {
+    let entry = match e {
+        picomis::SceneError::NotRepresentable { entry, .. } => file.shape_entry(usize::from(*entry)),
+        _ => None,
+    };
+    format!("{e}{}", entry.map(|n| format!(" ({n})")).unwrap_or_default())
+}

@@ -138,6 +138,45 @@ mod tests {
         assert_eq!(std::fs::read_dir(dir.path().join("cache")).unwrap().count(), 3);
         let summary = std::fs::read_to_string(dir.path().join("summary.md")).unwrap();
         assert!(summary.contains("reference 8 spp") && summary.contains(", cached"), "{summary}");
+        // The fixed-point method: measured against f32 power of the same seed and spp (a finite,
+        // non-negative error), and only it.
+        let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+        let col = header.iter().position(|h| *h == "rel_mse_vs_f32").unwrap();
+        for line in csv.lines().skip(1) {
+            let f: Vec<&str> = line.split(',').collect();
+            assert_eq!(f.len(), header.len(), "{line}");
+            if f[1] == "power_fixed" {
+                let v: f64 = f[col].parse().unwrap();
+                assert!(v.is_finite() && v >= 0.0, "{line}");
+            } else {
+                assert_eq!(f[col], "", "{line}");
+            }
+        }
+        let row = summary.lines().find(|l| l.starts_with("| power, fixed-point ray queries |")).unwrap();
+        let last = row.trim_end_matches('|').rsplit('|').next().unwrap().trim();
+        assert!(last.parse::<f64>().is_ok_and(|v| v.is_finite()), "{row}");
+    }
+
+    #[test]
+    fn a_scene_fixed_point_cannot_represent_shows_the_method_as_rejected() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/scenes/tiny_light.json");
+        let a = StudyArgs { scene: Some(scene.into()), max_spp: 1, seeds: 1, ..args(dir.path()) };
+        run(&a).unwrap();
+        let summary = std::fs::read_to_string(dir.path().join("summary.md")).unwrap();
+        let row = summary.lines().find(|l| l.starts_with("| power, fixed-point ray queries |")).unwrap();
+        assert!(
+            row.contains("| rejected: fixed point cannot represent shape 1: ")
+                && row.contains("(shapes[1] \"tiny_light\")"),
+            "{row}"
+        );
+        // Every other method ran; the rejected one has one CSV row with its reason and no render.
+        let csv = std::fs::read_to_string(dir.path().join("results.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 1 + (study_methods().len() - 1) + 1);
+        let rejected: Vec<&str> = csv.lines().filter(|l| l.starts_with("tiny_light,power_fixed,")).collect();
+        assert_eq!(rejected.len(), 1, "{csv}");
+        assert!(rejected[0].starts_with("tiny_light,power_fixed,,,") && rejected[0].contains("too small"));
+        assert!(dir.path().join("tiny_light_equal_time.png").is_file());
     }
 
     #[test]

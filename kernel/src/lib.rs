@@ -44,7 +44,6 @@
 
 pub mod accel;
 pub mod analytic;
-#[cfg(feature = "fixed")]
 pub mod arith;
 pub mod camera;
 pub mod colormap;
@@ -70,7 +69,6 @@ pub mod shape;
 pub mod study;
 pub mod tonemap;
 
-#[cfg(feature = "fixed")]
 pub use arith::Arith;
 pub use camera::{Camera, CameraDesc, Film, FovAxis};
 pub use colormap::{NO_LIGHT, weight_color};

@@ -1,13 +1,16 @@
 //! The methods of the speed-against-accuracy study (`picomis-sim study`), the one list of them:
 //! the study charts them and the benchmarks (`bench/`) time them, both reading it here. Each is a
-//! [`Method`] with its sphere-light sampling and the further [`Extras`] it sets, named for files
-//! and titled for charts.
+//! [`Method`] with its sphere-light sampling and the further [`Extras`] it sets (the render
+//! settings, and the arithmetic of the scene's ray queries), named for files and titled for charts.
 
+use crate::arith::Arith;
 use crate::error::SceneError;
 use crate::light_sampler::{LightSelection, QuadSampling, SphereSampling};
 use crate::mis::{Heuristic, Method};
 use crate::model::{DEFAULT_C_LIGHT, MisModel};
 use crate::rng::SamplerKind;
+#[cfg(feature = "fixed")]
+use crate::scene::Scene;
 use crate::settings::{ControlVariate, RenderSettings};
 
 /// A method of the study.
@@ -38,6 +41,9 @@ pub struct Extras {
     pub quads: QuadSampling,
     /// The analytic control variate.
     pub control_variate: ControlVariate,
+    /// The arithmetic of the scene's ray queries: not a render setting but the scene's
+    /// (`Extras::prepare`, feature `fixed`).
+    pub arith: Arith,
 }
 
 impl Default for Extras {
@@ -50,6 +56,7 @@ impl Default for Extras {
             model: MisModel::default(),
             quads: QuadSampling::default(),
             control_variate: ControlVariate::default(),
+            arith: Arith::F32,
         }
     }
 }
@@ -63,6 +70,22 @@ impl Extras {
             .with_mis_model(self.model)?
             .with_quad_sampling(self.quads)
             .with_control_variate(self.control_variate))
+    }
+
+    /// Runs `scene`'s ray queries in this arithmetic ([`Scene::enable_arith`]): the scene's
+    /// [`SceneError::NotRepresentable`] when the arithmetic cannot represent it.
+    #[cfg(feature = "fixed")]
+    pub fn prepare<const S: usize, const L: usize, const M: usize>(
+        &self,
+        scene: &mut Scene<S, L, M>,
+    ) -> Result<(), SceneError> {
+        scene.enable_arith(self.arith)
+    }
+
+    /// These options in f32: the method that the same seed and spp compare a fixed-point method
+    /// with (the same random numbers).
+    pub fn in_f32(&self) -> Extras {
+        Extras { arith: Arith::F32, ..*self }
     }
 }
 
@@ -84,10 +107,12 @@ impl StudyMethod {
 /// The methods of the study, in the lecture's order, with the default sample stream and uniform
 /// light selection; then the power heuristic with independent random numbers (what the
 /// stratified stream gains) and with lights chosen by power and by contribution, and what goes
-/// beyond the lecture, each against balance. The heuristics sample sphere lights by cone. (The
+/// beyond the lecture, each against balance; last, the power heuristic with the scene's ray
+/// queries in fixed point (against f32 power, same seeds). The heuristics sample sphere lights
+/// by cone. (The
 /// Veach region study renders each light alone, which leaves the selection probabilities
 /// unchanged only under uniform selection: it leaves out the methods that choose otherwise.)
-pub fn study_methods() -> [StudyMethod; 15] {
+pub fn study_methods() -> [StudyMethod; 16] {
     let mis = Method::Mis;
     let (cone, area) = (SphereSampling::Cone, SphereSampling::Area);
     let study = |label, title, method, spheres| StudyMethod {
@@ -144,6 +169,11 @@ pub fn study_methods() -> [StudyMethod; 15] {
             extras: Extras { control_variate: ControlVariate::On, ..Extras::default() },
             ..study("balance_cv", "balance + control variate", balance, cone)
         },
+        // The scene's ray queries in fixed point (cores without an FPU), against f32 power.
+        StudyMethod {
+            extras: Extras { arith: Arith::Fixed, ..Extras::default() },
+            ..study("power_fixed", "power, fixed-point ray queries", power, cone)
+        },
     ]
 }
 
@@ -161,6 +191,14 @@ mod tests {
         // Each of the kernel's methods, and both sphere samplings, is in the list.
         assert!(Method::ALL.iter().all(|k| all.iter().any(|m| m.method == *k)));
         assert!(all.iter().any(|m| m.spheres == SphereSampling::Area));
+        // Every arithmetic is in the list, and every fixed-point method has its f32 twin.
+        assert!(all.iter().any(|m| m.extras.arith == Arith::Fixed));
+        for m in all.iter().filter(|m| m.extras.arith != Arith::F32) {
+            let twin = all
+                .iter()
+                .find(|o| o.method == m.method && o.spheres == m.spheres && o.extras == m.extras.in_f32());
+            assert_eq!(twin.map(|t| t.label), Some("power"), "{}", m.label);
+        }
         // The titles state the kernel's defaults.
         let title = |label| all.iter().find(|m| m.label == label).map(|m| m.title);
         assert_eq!(title("power"), Some(format!("power (\u{3b2} = {})", Heuristic::DEFAULT_BETA).as_str()));

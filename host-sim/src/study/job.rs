@@ -6,16 +6,16 @@ use std::path::Path;
 
 use indicatif::ProgressBar;
 use picomis::study::{StudyMethod, study_methods};
-use picomis::{Estimate, Rgb, Scene};
+use picomis::{Arith, Estimate, Rgb, Scene};
 
 use super::args::{EQUAL_TIME_SEED, StudyArgs};
 use super::measure::{measured, settings, timed};
 use super::metrics::{self, ErrorStats};
 use super::reference::{self, Reference};
 use super::regions::{self, RegionMap, RegionStudy};
-use super::results::{EqualTime, Record, SceneStudy, balance_index, cost_per_spp};
+use super::results::{EqualTime, Record, Rejected, SceneStudy, balance_index, cost_per_spp, f32_twin};
 use crate::SimError;
-use crate::render::progress_bar;
+use crate::render::{progress_bar, scene_error};
 use crate::scenes::{Loaded, SceneVisitor};
 
 /// The study of one scene, run with its kernel scene (capacities chosen by the dispatch).
@@ -44,6 +44,10 @@ impl SceneVisitor for SceneJob<'_> {
 struct Context<'a, const S: usize, const L: usize, const M: usize> {
     job: SceneJob<'a>,
     scene: &'a Scene<S, L, M>,
+    /// The scene with its ray queries in fixed point, or why fixed point cannot represent it.
+    fixed: Result<Scene<S, L, M>, String>,
+    /// The methods the scene's arithmetic cannot run.
+    rejected: Vec<Rejected>,
     name: String,
     /// The scene's (light, BSDF) samples per camera sample.
     samples: (u16, u16),
@@ -94,12 +98,29 @@ impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
             eprintln!("{name}: {} plate x light regions", r.regions.len());
         }
         let (ladder, seeds) = (job.args.ladder(), job.args.ladder_seeds());
+        let mut fixed = scene.clone();
+        let fixed =
+            fixed.enable_arith(Arith::Fixed).map(|()| fixed).map_err(|e| scene_error(&job.loaded.file, &e));
+        let methods = study_methods().to_vec();
+        let rejected: Vec<Rejected> = methods
+            .iter()
+            .enumerate()
+            .filter(|(_, m)| m.extras.arith == Arith::Fixed)
+            .filter_map(|(method, _)| {
+                fixed.as_ref().err().map(|reason| Rejected { method, reason: reason.clone() })
+            })
+            .collect();
+        for r in &rejected {
+            eprintln!("{name}: {}: rejected: {}", methods[r.method].label, r.reason);
+        }
         Ok(Self {
             job,
             scene,
+            fixed,
+            rejected,
             name,
             samples,
-            methods: study_methods().to_vec(),
+            methods,
             ladder,
             seeds,
             reference,
@@ -119,25 +140,40 @@ impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
         progress_bar(spp * u64::from(self.scene.film().height()), &format!("{}: {what}", self.name))
     }
 
-    /// Renders method `mi` at `spp` with `seed`: the estimates, seconds, and error against the
-    /// reference.
+    /// Whether method `mi` runs on this scene (its arithmetic can represent the scene).
+    fn runs(&self, mi: usize) -> bool {
+        self.rejected.iter().all(|r| r.method != mi)
+    }
+
+    /// The scene in the arithmetic of method `mi`'s ray queries.
+    fn scene_of(&self, mi: usize) -> Result<&Scene<S, L, M>, SimError> {
+        match self.methods[mi].extras.arith {
+            Arith::F32 => Ok(self.scene),
+            Arith::Fixed => self.fixed.as_ref().map_err(|e| SimError::Usage(e.clone())),
+        }
+    }
+
+    /// Renders method `mi` at `spp` with `seed`: the estimates, the values errors are measured on,
+    /// seconds, and error against the reference.
     fn render(
         &self,
         mi: usize,
         spp: u32,
         seed: u32,
         bar: &ProgressBar,
-    ) -> Result<(Vec<Estimate>, f64, ErrorStats), SimError> {
+    ) -> Result<(Vec<Estimate>, Vec<Rgb>, f64, ErrorStats), SimError> {
         let include_emitted = self.job.args.include_emitted;
         let target = if include_emitted { &self.reference.full } else { &self.reference.reflected };
-        let (img, seconds) = timed(self.scene, &settings(&self.methods[mi], self.samples, spp, seed)?, bar);
+        let scene = self.scene_of(mi)?;
+        let (img, seconds) = timed(scene, &settings(&self.methods[mi], self.samples, spp, seed)?, bar);
         let values: Vec<Rgb> = img.iter().map(|e| measured(e, include_emitted)).collect();
         let error = metrics::error(&values, target);
-        Ok((img, seconds, error))
+        Ok((img, values, seconds, error))
     }
 
     /// The ladder: every method at every rung with every seed, methods interleaved so that any
-    /// change of machine load hits all alike.
+    /// change of machine load hits all alike. A method whose ray queries are not f32 is also
+    /// measured against its f32 twin of the same rung and seed.
     fn ladder(&self) -> Result<Vec<Record>, SimError> {
         let per_method: u64 =
             self.ladder.iter().map(|&s| u64::from(s)).sum::<u64>() * self.seeds.len() as u64;
@@ -145,13 +181,26 @@ impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
         let mut records = Vec::new();
         for &spp in &self.ladder {
             for &seed in &self.seeds {
-                for mi in 0..self.methods.len() {
-                    let (img, seconds, error) = self.render(mi, spp, seed, &bar)?;
+                let first = records.len();
+                let mut values: Vec<Option<Vec<Rgb>>> = vec![None; self.methods.len()];
+                for (mi, slot) in values.iter_mut().enumerate() {
+                    if !self.runs(mi) {
+                        bar.inc(u64::from(spp) * u64::from(self.scene.film().height()));
+                        continue;
+                    }
+                    let (img, measured, seconds, error) = self.render(mi, spp, seed, &bar)?;
                     let mitsuba = self.mitsuba.as_ref().map(|r| {
                         let full: Vec<Rgb> = img.iter().map(Estimate::radiance).collect();
                         metrics::error(&full, r)
                     });
-                    records.push(Record { method: mi, spp, seed, seconds, error, mitsuba });
+                    *slot = Some(measured);
+                    records.push(Record { method: mi, spp, seed, seconds, error, mitsuba, vs_f32: None });
+                }
+                for r in &mut records[first..] {
+                    let twin = f32_twin(r.method).and_then(|t| values[t].as_ref());
+                    if let (Some(img), Some(twin)) = (values[r.method].as_ref(), twin) {
+                        r.vs_f32 = Some(metrics::error(img, twin));
+                    }
                 }
             }
         }
@@ -166,7 +215,20 @@ impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
         let ref_spp = (self.job.args.reference_spp() / 4).max(256);
         let (loaded, cache) = (self.job.loaded, self.job.cache);
         let (samples, top) = (self.samples, self.top());
-        regions::study(self.scene, map, loaded, cache, ref_spp, samples, &self.methods, top, &self.seeds)
+        // Rejected methods are left out (no region errors), like the methods that choose lights
+        // otherwise than uniformly.
+        let runs: Vec<bool> = (0..self.methods.len()).map(|mi| self.runs(mi)).collect();
+        regions::study(
+            self.scene,
+            map,
+            loaded,
+            cache,
+            ref_spp,
+            samples,
+            (&self.methods, &runs),
+            top,
+            &self.seeds,
+        )
     }
 
     /// Equal time: every method gets the time balance took at the top rung; returns that budget
@@ -176,14 +238,17 @@ impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
         let budget = f64::from(top) * cost_per_spp(records, balance_index(), top);
         let spps: Vec<u32> = (0..self.methods.len())
             .map(|mi| {
+                if !self.runs(mi) {
+                    return 0;
+                }
                 let cost = cost_per_spp(records, mi, top);
                 ((budget / cost).round() as u32).clamp(1, 1 << 20)
             })
             .collect();
         let bar = self.bar(spps.iter().map(|&s| u64::from(s)).sum(), "equal time");
         let mut equal_time = Vec::new();
-        for (mi, &spp) in spps.iter().enumerate() {
-            let (img, seconds, error) = self.render(mi, spp, EQUAL_TIME_SEED, &bar)?;
+        for (mi, &spp) in spps.iter().enumerate().filter(|(mi, _)| self.runs(*mi)) {
+            let (img, _, seconds, error) = self.render(mi, spp, EQUAL_TIME_SEED, &bar)?;
             let image = img.iter().map(Estimate::radiance).collect();
             equal_time.push(EqualTime { method: mi, spp, seconds, error, image });
         }
@@ -213,6 +278,7 @@ impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
             region_study,
             mitsuba_note: self.mitsuba_note,
             reference_vs_mitsuba,
+            rejected: self.rejected,
         }
     }
 }

@@ -246,8 +246,10 @@ pub struct RegionStudy {
     pub spp: u32,
 }
 
-/// Renders each light of `map` alone with every method at `spp` for each seed and measures the
-/// error of its regions against that light's own reference (`ref_spp` samples per pixel).
+/// Renders each light of `map` alone with every method of `methods` that runs on the scene
+/// (`methods.1`) at `spp` for each seed, with the method's arithmetic of the ray queries, and
+/// measures the error of its regions against that light's own reference (`ref_spp` samples per
+/// pixel).
 #[allow(clippy::too_many_arguments)]
 pub fn study<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
@@ -256,10 +258,11 @@ pub fn study<const S: usize, const L: usize, const M: usize>(
     cache: &std::path::Path,
     ref_spp: u32,
     samples: (u16, u16),
-    methods: &[StudyMethod],
+    methods: (&[StudyMethod], &[bool]),
     spp: u32,
     seeds: &[u32],
 ) -> Result<RegionStudy, SimError> {
+    let (methods, runs) = methods;
     let mut out = RegionStudy { spp, ..RegionStudy::default() };
     let h = u64::from(scene.film().height());
     for (l, &light) in map.light_ids.iter().enumerate() {
@@ -272,12 +275,15 @@ pub fn study<const S: usize, const L: usize, const M: usize>(
         let bar = progress_bar(renders * h, &name);
         for &seed in seeds {
             for (mi, m) in methods.iter().enumerate() {
-                if m.extras.selection != LightSelection::Uniform {
-                    // Isolating the light would change this method's selection probabilities.
+                if m.extras.selection != LightSelection::Uniform || !runs.get(mi).copied().unwrap_or(false) {
+                    // Isolating the light would change this method's selection probabilities,
+                    // or the method's arithmetic cannot represent the scene.
                     bar.inc(u64::from(spp) * h);
                     continue;
                 }
-                let img = render_estimates(&alone, &settings(m, samples, spp, seed)?, &bar).pixels;
+                let mut scene = alone.clone();
+                m.extras.prepare(&mut scene).map_err(|e| SimError::Usage(format!("{}: {e}", m.label)))?;
+                let img = render_estimates(&scene, &settings(m, samples, spp, seed)?, &bar).pixels;
                 let values: Vec<Rgb> = img.par_iter().map(reflected).collect();
                 let errors = map.rel_mse(&values, &r.reflected);
                 for (k, _) in map.regions.iter().enumerate().filter(|(_, g)| g.light == l) {

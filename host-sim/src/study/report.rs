@@ -42,6 +42,7 @@ pub fn write_scene(out: &Path, study: &SceneStudy, include_emitted: bool) -> Res
         let series = methods
             .iter()
             .enumerate()
+            .filter(|(mi, _)| study.rejection(*mi).is_none())
             .map(|(mi, m)| Series {
                 label: match kind {
                     "spp" => format!("{} (slope {:.2})", m.title, convergence_slope(&study.records, mi)),
@@ -83,20 +84,29 @@ pub fn write_scene(out: &Path, study: &SceneStudy, include_emitted: bool) -> Res
     write_png(&out.join(format!("{}_equal_time.png", study.name)), &grid::compose(study, what))
 }
 
-/// `results.csv` (every ladder render) and `equal_time.csv`.
+/// A CSV field: quoted, its quotes doubled.
+fn csv_field(s: &str) -> String {
+    format!("\"{}\"", s.replace('"', "\"\""))
+}
+
+/// `results.csv` (every ladder render, and one row per rejected method with only its reason) and
+/// `equal_time.csv`.
 pub fn write_results(out: &Path, studies: &[SceneStudy]) -> Result<(), SimError> {
     let methods = study_methods();
     let mut csv = String::from(
-        "scene,method,spp,seed,width,height,seconds,mse,rel_mse,efficiency,rel_efficiency,mse_mitsuba,rel_mse_mitsuba\n",
+        "scene,method,spp,seed,width,height,seconds,mse,rel_mse,efficiency,rel_efficiency,mse_mitsuba,rel_mse_mitsuba,mse_vs_f32,rel_mse_vs_f32,rejected\n",
     );
     for s in studies {
         for r in &s.records {
             let (mm, rm) = r.mitsuba.map_or((String::new(), String::new()), |m| {
                 (format!("{:e}", m.mse), format!("{:e}", m.rel_mse))
             });
+            let (mf, rf) = r.vs_f32.map_or((String::new(), String::new()), |m| {
+                (format!("{:e}", m.mse), format!("{:e}", m.rel_mse))
+            });
             let _ = writeln!(
                 csv,
-                "{},{},{},{},{},{},{:.6},{:e},{:e},{:e},{:e},{mm},{rm}",
+                "{},{},{},{},{},{},{:.6},{:e},{:e},{:e},{:e},{mm},{rm},{mf},{rf},",
                 s.name,
                 methods[r.method].label,
                 r.spp,
@@ -108,6 +118,17 @@ pub fn write_results(out: &Path, studies: &[SceneStudy]) -> Result<(), SimError>
                 r.error.rel_mse,
                 1.0 / (r.error.mse * r.seconds),
                 1.0 / (r.error.rel_mse * r.seconds),
+            );
+        }
+        for r in &s.rejected {
+            let _ = writeln!(
+                csv,
+                "{},{},,,{},{},,,,,,,,,,{}",
+                s.name,
+                methods[r.method].label,
+                s.width,
+                s.height,
+                csv_field(&r.reason)
             );
         }
     }
@@ -213,7 +234,11 @@ pub fn write_summary(
         "- Efficiency = 1 / (error x seconds) at the top rung (error: mean over seeds; seconds: the fastest \
          seed's render, robust against other processes), relative to the balance heuristic: 2.0 means half \
          the time for the same error. The slope is that of a least-squares fit of log relative MSE against \
-         log spp over the ladder: -1 for independent samples, steeper where stratification helps.\n"
+         log spp over the ladder: -1 for independent samples, steeper where stratification helps. \
+         \"rel. MSE vs f32\": for a method whose ray queries are not f32, its error against the f32 \
+         method of the same options (power heuristic), rendered with the same seed and spp (the same \
+         random numbers), mean over seeds at the top rung; a scene that its arithmetic cannot \
+         represent shows the method as rejected, with the reason.\n"
     );
     for s in studies {
         let eff = efficiencies(s);
@@ -231,15 +256,25 @@ pub fn write_summary(
         );
         let _ = writeln!(
             md,
-            "| method | ms per image | camera samples/s | MSE | rel. MSE | rel. MSE slope vs spp | efficiency vs balance (rel. MSE) | efficiency vs balance (MSE) | equal-time spp | equal-time rel. MSE |"
+            "| method | ms per image | camera samples/s | MSE | rel. MSE | rel. MSE slope vs spp | efficiency vs balance (rel. MSE) | efficiency vs balance (MSE) | equal-time spp | equal-time rel. MSE | rel. MSE vs f32 |"
         );
-        let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+        let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
         for (mi, m) in methods.iter().enumerate() {
+            if let Some(reason) = s.rejection(mi) {
+                let _ = writeln!(
+                    md,
+                    "| {} | rejected: {} | | | | | | | | | |",
+                    m.title,
+                    reason.replace('|', "\\|")
+                );
+                continue;
+            }
             let e = eff[mi];
+            let vs_f32 = over_seeds(&s.records, mi, top, |r| r.vs_f32.map_or(f64::NAN, |v| v.rel_mse)).0;
             let eq = s.equal_time.iter().find(|q| q.method == mi);
             let _ = writeln!(
                 md,
-                "| {} | {:.1} | {:.2} M | {:.3e} | {:.3e} | {:.2} | {} | {} | {} | {} |",
+                "| {} | {:.1} | {:.2} M | {:.3e} | {:.3e} | {:.2} | {} | {} | {} | {} | {} |",
                 m.title,
                 e.seconds * 1e3,
                 e.samples_per_second / 1e6,
@@ -250,6 +285,7 @@ pub fn write_summary(
                 ratio(e.efficiency / b.efficiency),
                 eq.map_or(String::new(), |q| q.spp.to_string()),
                 eq.map_or(String::new(), |q| format!("{:.3e}", q.error.rel_mse)),
+                if vs_f32.is_nan() { String::new() } else { format!("{vs_f32:.3e}") },
             );
         }
         if let Some(m) = &s.reference_vs_mitsuba {
@@ -260,7 +296,7 @@ pub fn write_summary(
                 s.width, s.height, m.rel_mse, m.mse
             );
             let _ = writeln!(md, "| method | rel. MSE vs Mitsuba | MSE vs Mitsuba |\n|---|---:|---:|");
-            for (mi, meth) in methods.iter().enumerate() {
+            for (mi, meth) in methods.iter().enumerate().filter(|(mi, _)| s.rejection(*mi).is_none()) {
                 let rel = over_seeds(&s.records, mi, top, |r| r.mitsuba.map_or(f64::NAN, |m| m.rel_mse)).0;
                 let mse = over_seeds(&s.records, mi, top, |r| r.mitsuba.map_or(f64::NAN, |m| m.mse)).0;
                 let _ = writeln!(md, "| {} | {rel:.3e} | {mse:.3e} |", meth.title);

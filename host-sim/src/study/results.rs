@@ -3,7 +3,7 @@
 //! it: which method is which, the rungs, means over seeds, the cost per sample.
 
 use picomis::study::{Extras, study_methods};
-use picomis::{Heuristic, Method, Rgb, SphereSampling};
+use picomis::{Arith, Heuristic, Method, Rgb, SphereSampling};
 
 use super::metrics::ErrorStats;
 use super::reference::Reference;
@@ -24,6 +24,18 @@ pub struct Record {
     pub error: ErrorStats,
     /// Error of the full radiance against the Mitsuba 3 reference (Veach scene).
     pub mitsuba: Option<ErrorStats>,
+    /// For a method whose ray queries are not f32: its error against its f32 twin
+    /// ([`f32_twin`]) rendered with the same seed and spp (the same random numbers).
+    pub vs_f32: Option<ErrorStats>,
+}
+
+/// A method that the scene's arithmetic cannot run: no renders, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rejected {
+    /// Index in [`study_methods`].
+    pub method: usize,
+    /// The scene's error, naming the entry.
+    pub reason: String,
 }
 
 /// One render of the equal-time comparison.
@@ -66,6 +78,15 @@ pub struct SceneStudy {
     pub mitsuba_note: Option<String>,
     /// Error of the reference's full radiance against the Mitsuba 3 reference (Veach scene).
     pub reference_vs_mitsuba: Option<ErrorStats>,
+    /// The methods the scene rejected (fixed point cannot represent it).
+    pub rejected: Vec<Rejected>,
+}
+
+impl SceneStudy {
+    /// Why method `mi` was not run on this scene, if it was not.
+    pub fn rejection(&self, mi: usize) -> Option<&str> {
+        self.rejected.iter().find(|r| r.method == mi).map(|r| r.reason.as_str())
+    }
 }
 
 /// Index in [`study_methods`] of `method` with sphere lights sampled by `spheres`, the default
@@ -75,6 +96,19 @@ pub fn index_of(method: Method, spheres: SphereSampling) -> usize {
         .iter()
         .position(|m| m.method == method && m.spheres == spheres && m.extras == Extras::default())
         .unwrap_or(0)
+}
+
+/// Index in [`study_methods`] of the f32 twin of method `mi` (the same method and options with
+/// the ray queries in f32), for a method whose ray queries are not f32; `None` for the others.
+pub fn f32_twin(mi: usize) -> Option<usize> {
+    let methods = study_methods();
+    let m = methods.get(mi)?;
+    if m.extras.arith == Arith::F32 {
+        return None;
+    }
+    methods
+        .iter()
+        .position(|o| o.method == m.method && o.spheres == m.spheres && o.extras == m.extras.in_f32())
 }
 
 /// Index of the balance heuristic in [`study_methods`] (the baseline of every ratio).
@@ -149,6 +183,14 @@ mod tests {
         assert_eq!(study_methods()[balance_index()].label, "balance");
         assert_eq!(study_methods()[index_of(Method::LightOnly, SphereSampling::Area)].label, "light_area");
     }
+
+    #[test]
+    fn the_fixed_point_method_is_compared_with_f32_power() {
+        let methods = study_methods();
+        let fixed = methods.iter().position(|m| m.label == "power_fixed").unwrap();
+        assert_eq!(f32_twin(fixed).map(|t| methods[t].label), Some("power"));
+        assert!((0..methods.len()).filter(|&i| i != fixed).all(|i| f32_twin(i).is_none()));
+    }
 }
 
 #[cfg(test)]
@@ -165,6 +207,7 @@ mod slope_tests {
             seconds: 1.0,
             error: ErrorStats { mse: rel_mse, rel_mse },
             mitsuba: None,
+            vs_f32: None,
         };
         let mut records = Vec::new();
         for spp in [1u32, 2, 4, 8, 16] {
