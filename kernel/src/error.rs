@@ -105,7 +105,7 @@ pub enum SceneError {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Unrepresentable {
-    /// The scene's extent is not finite.
+    /// The scene's extent is not finite, or too large for an f32 scale factor (beyond 2^120).
     Extent,
     /// A sphere radius or quad edge is below 2^12 units of the scale the extent sets.
     TooSmall,
@@ -118,7 +118,7 @@ impl Unrepresentable {
     /// The reason in words (for logs without `core::fmt`).
     pub fn as_str(self) -> &'static str {
         match self {
-            Unrepresentable::Extent => "the scene's extent is not finite",
+            Unrepresentable::Extent => "the scene's extent is not finite or beyond 2^120",
             Unrepresentable::TooSmall => "it is too small relative to the scene's extent (below 2^-14 of it)",
             Unrepresentable::Skewed => "its quad is too skewed",
         }

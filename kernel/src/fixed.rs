@@ -5,10 +5,15 @@
 //! Scale: from the scene's extent B (the largest coordinate magnitude of any shape or the
 //! camera), one unit is 2^-(26 - floor(log2 B)), so every scene coordinate is below 2^27 units.
 //! Directions and normals are Q30. Bounds (|o| <= 2^28 units, checked per ray; |c|, |p0| <
-//! 2^27; |d_i| <= 2^30 + 2^21; dual axes below 2^24) keep every i64 product below 2^62. A ray
+//! 2^27; |d_i| <= 2^30 + 2^21; dual axes below 2^28) keep every i64 sum of products below 2^62. A ray
 //! outside those bounds (or not finite) takes the f32 test. A scene whose spheres or quad edges
 //! are below 2^12 units, or whose quad axes are too skewed, is rejected at construction
 //! ([`SceneError::NotRepresentable`]).
+//!
+//! A quad's dual axes (e / |e|^2 for a rectangle: the edge coordinate per unit) are small
+//! numbers, about 2^30 / (edge length in units): a quad as large as the scene would keep only a
+//! few bits of them in Q30. So each quad has its own fraction bits, Q30 plus as many as keep its
+//! axes below 2^28 (`AXIS_BITS`): every quad's edge coordinates have 27 or more significant bits.
 //!
 //! The copies are kept in the scene ([`FixedScene`]) and filled there in place, shape by shape
 //! (no copy of the whole table on the stack); stored as i32 where the bounds allow (RAM).
@@ -28,8 +33,10 @@ const MIN_SIZE: f32 = 4096.0;
 const MAX_ORIGIN: i64 = 1 << 28;
 /// Largest direction component magnitude, Q30 (a unit vector with rounding).
 const MAX_DIR: i64 = (1 << Q) + (1 << 21);
-/// Largest dual-axis component, Q30 per unit.
+/// Largest dual-axis component, Q30 per unit (more is a skew the format rejects).
 const MAX_AXIS: f32 = 16_777_216.0; // 2^24
+/// A quad's dual axes are stored below 2^AXIS_BITS, with its own fraction bits.
+const AXIS_BITS: i32 = 28;
 /// Beyond this distance (units) nothing in the scene can be met.
 const MAX_T: i64 = 1 << 31;
 
@@ -38,8 +45,10 @@ const MAX_T: i64 = 1 << 31;
 enum FixedShape {
     /// Centre, radius and squared radius.
     Sphere { c: [i32; 3], r: i32, r2: i64 },
-    /// Corner, unit normal, plane offset `n . p0` (Q30 units), dual axes.
-    Quad { p0: [i32; 3], n: [i32; 3], plane: i64, sa: [i32; 3], ta: [i32; 3] },
+    /// Corner, unit normal, plane offset `n . p0` (Q30 units), dual axes with the quad's own
+    /// fraction bits per unit, and one in those bits (2^(Q + extra): no variable 64-bit shift
+    /// per test).
+    Quad { p0: [i32; 3], n: [i32; 3], plane: i64, sa: [i32; 3], ta: [i32; 3], one: i64 },
 }
 
 /// A ray in units (origin) and Q30 (direction), with its open distance range `(lo, hi)` in
@@ -170,12 +179,29 @@ fn convert(shape: &Shape, entry: usize, s: i32) -> Result<FixedShape, SceneError
             }
             let (n, _, _, sa, ta) = q.parts();
             let k = pow2(Q as i32 - s);
-            if !(sa.abs().max_element() * k < MAX_AXIS && ta.abs().max_element() * k < MAX_AXIS) {
+            let largest = sa.abs().max_element().max(ta.abs().max_element()) * k;
+            if !(largest < MAX_AXIS) {
                 return Err(fail(Unrepresentable::Skewed));
             }
+            // Extra fraction bits: the most that keep the largest component below 2^AXIS_BITS
+            // (largest >= 2^-2: an edge is at most 2^29 units; at most 32 extra bits).
+            let log2 = ((largest.to_bits() >> 23) & 0xff) as i32 - 127;
+            let extra = (AXIS_BITS - 1 - log2).clamp(0, 32);
+            let e = Q as i32 - s + extra;
+            if !(-126..=127).contains(&(Q as i32 - s)) || !(-126..=127).contains(&e) {
+                return Err(fail(Unrepresentable::Extent)); // a scale 2^e an f32 cannot hold
+            }
+            let ka = pow2(e);
             let (p0, n) = (v3(p0, scale), v3(n, pow2(Q as i32)));
             let plane = dot(&wide(&n), &wide(&p0));
-            Ok(FixedShape::Quad { p0, n, plane, sa: v3(sa, k), ta: v3(ta, k) })
+            Ok(FixedShape::Quad {
+                p0,
+                n,
+                plane,
+                sa: v3(sa, ka),
+                ta: v3(ta, ka),
+                one: 1 << (Q as i32 + extra),
+            })
         }
     }
 }
@@ -210,7 +236,7 @@ fn distance(shape: &FixedShape, r: &FixedRay) -> Option<i64> {
                 None
             }
         }
-        FixedShape::Quad { p0, n, plane, sa, ta } => {
+        FixedShape::Quad { p0, n, plane, sa, ta, one } => {
             let n = wide(n);
             let denom = dot(&n, &r.d) >> Q;
             let num = plane - dot(&n, &r.o);
@@ -232,8 +258,9 @@ fn distance(shape: &FixedShape, r: &FixedRay) -> Option<i64> {
                 r.o[2] + ((r.d[2] * t) >> Q) - p0[2],
             ];
             let (s, v) = (dot(&q, &wide(sa)), dot(&q, &wide(ta)));
-            let one = 1i64 << Q;
-            ((0..=one).contains(&s) && (0..=one).contains(&v)).then_some(t)
+            // |q| < 2^31.2 (|o| <= 2^28, the step d t below 2^31, |p0| < 2^27) and the axes are
+            // below 2^28: each sum of products below 2^61.
+            ((0..=*one).contains(&s) && (0..=*one).contains(&v)).then_some(t)
         }
     }
 }
@@ -466,6 +493,44 @@ mod tests {
             );
         }
         assert!(hits > 100 && differ <= 2, "{hits} hits, {differ} differ");
+    }
+
+    /// A quad as large as the scene keeps its edges: rays aimed 1e-4 of its size inside or
+    /// outside each edge hit or miss it as in f32 (with Q30 dual axes alone, a 6-unit quad in an
+    /// 8-unit scene reached 1.6 % past its far edges).
+    #[test]
+    fn large_quads_keep_their_edges() {
+        let h = 3.0;
+        let floor = Shape::quad([
+            Vec3::new(-h, 0.0, -h),
+            Vec3::new(-h, 0.0, h),
+            Vec3::new(h, 0.0, h),
+            Vec3::new(h, 0.0, -h),
+        ])
+        .unwrap();
+        let eye = Vec3::new(0.1, 7.0, 0.2);
+        let fx: FixedScene<1> = scene(&[floor], eye).unwrap();
+        let mut checked = 0;
+        for k in 0..64 {
+            let along = -h + 2.0 * h * (k as f32 + 0.5) / 64.0;
+            for off in [-6e-4f32, 6e-4] {
+                let edge = h + off; // inside for off < 0
+                for target in [
+                    Vec3::new(edge, 0.0, along),
+                    Vec3::new(-edge, 0.0, along),
+                    Vec3::new(along, 0.0, edge),
+                    Vec3::new(along, 0.0, -edge),
+                ] {
+                    let ray = Ray { origin: eye, dir: (target - eye).normalize() };
+                    let want = floor.intersect(&ray, 0.0, f32::INFINITY);
+                    assert_eq!(want.is_some(), off < 0.0, "the f32 test itself at {target}");
+                    let got = fx.intersect(0, &floor, &ray, 0.0, f32::INFINITY);
+                    assert_eq!(got.is_some(), want.is_some(), "at {target}");
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(checked, 512);
     }
 
     #[test]
