@@ -1,7 +1,7 @@
 @ picomis: single-precision soft float for ARMv6-M (Thumb-1), see mod.rs.
 @ AAPCS: operands in r0, r1, result in r0; r0-r3, r12 and the flags may be clobbered.
 @ Round to nearest, ties to even. Fast paths for normal operands with a normal result; the rest
-@ goes, with the original operands, to compiler-builtins' __addsf3 / __mulsf3.
+@ goes, with the original operands, to compiler-builtins' __addsf3 / __mulsf3 / __divsf3.
 
     .syntax unified
     .thumb
@@ -227,10 +227,6 @@ __aeabi_fmul:
     .size __aeabi_fmul, . - __aeabi_fmul
 
 @ ---------------------------------------------------------------------------------------------
-@ DISABLED (.if 0): written, not yet assembled or checked (session cut off at the deadline).
-@ Enable by removing the .if 0 / .endif pair, then run the softfloat-check firmware with a
-@ division added to fpcheck.rs before trusting it.
-    .if 0
 @ float __aeabi_fdiv(float a, float b)
 @ With A = 1.fa and B = 1.fb as 24-bit integers (A doubled when A < B, so that A / B is in
 @ [1, 2)), the result's significand comes from Q' = floor(A 2^24 / B), 25 bits. A quotient of
@@ -238,8 +234,10 @@ __aeabi_fmul:
 @ factors of two, B at most 23), so rounding to nearest is (Q' + 1) >> 1 and no sticky bit is
 @ needed. Q' is built from a 16-bit reciprocal X <= 2^39 / B (a 128-entry table, one Newton
 @ step) in two digit steps, q1 (15 bits) and q2 (about 10 more), each from a remainder that is
-@ exact because its true value is small (computed mod 2^32 with MULS), then made exact by the
-@ final remainder. The bounds are in the comments; fpcheck.rs checks the routine.
+@ exact because its true value is small (computed mod 2^32 with MULS), then made exact by one
+@ correction from the final remainder. The bounds in the comments are proved for every B (and
+@ so every A) by firmware/src/fdiv_proof.rs (`picomis-firmware fdiv-bound`); fpcheck.rs checks
+@ the routine against compiler-builtins' __divsf3 bit for bit.
     .section .text.picomis_fdiv,"ax",%progbits
     .balign 4
     .global __aeabi_fdiv
@@ -289,15 +287,15 @@ __aeabi_fdiv:
     muls r7, r6, r7             @ X0 floor(E / 2^8), |.| < 2^31
     asrs r7, r7, #23
     adds r6, r6, r7             @ X = X0 (1 + E / 2^31), rounded down: X <= 2^31 / b16 <= 2^39 / B
-    @ q1 = floor((A >> 9) X / 2^16) <= A 2^14 / B, and at most 5 below
+    @ q1 = floor((A >> 9) X / 2^16) <= A 2^14 / B
     lsrs r7, r2, #9             @ A >> 9 < 2^16 (A < 2^25)
     muls r7, r6, r7             @ < 2^32 (X <= 2^16)
     lsrs r7, r7, #16            @ q1 < 2^15
     lsls r1, r2, #14
     movs r5, r7
     muls r5, r3, r5
-    subs r1, r1, r5             @ r1 = A 2^14 - q1 B, in [0, 6B): exact mod 2^32
-    @ q2 = floor((r1 >> 11) X / 2^18) <= r1 2^10 / B, and at most 2 below
+    subs r1, r1, r5             @ r1 = A 2^14 - q1 B, in [0, 2^26): exact mod 2^32
+    @ q2 = floor((r1 >> 11) X / 2^18) <= r1 2^10 / B, at most 1 below
     lsrs r5, r1, #11            @ < 2^16 (r1 < 2^27)
     muls r5, r6, r5
     lsrs r5, r5, #18            @ q2
@@ -305,14 +303,10 @@ __aeabi_fdiv:
     adds r7, r7, r5             @ Q = q1 2^10 + q2 <= Q'
     muls r5, r3, r5
     lsls r1, r1, #10
-    subs r1, r1, r5             @ R = A 2^24 - Q B >= 0, small: exact mod 2^32
-    cmp r1, r3
-    blo 3f
-2:  adds r7, r7, #1             @ R >= B: Q one too small
-    subs r1, r1, r3
-    cmp r1, r3
-    bhs 2b
-3:  adds r7, r7, #1             @ Q' in [2^24, 2^25): round to nearest, no ties
+    subs r1, r1, r5             @ R = A 2^24 - Q B, in [0, 2B): exact mod 2^32
+    cmp r1, r3                  @ C = (R >= B): Q' = Q + C
+    movs r5, #1                 @ (MOVS leaves C alone)
+    adcs r7, r7, r5             @ Q' + 1, Q' in [2^24, 2^25): round to nearest, no ties
     lsrs r7, r7, #1             @ 1.f in [2^23, 2^24]: 2^24 carries into the exponent, up to infinity
     lsls r4, r4, #23
     adds r7, r7, r4
@@ -346,7 +340,6 @@ __aeabi_fdiv:
     .set i, i + 1
     .endr
     .size __aeabi_fdiv, . - __aeabi_fdiv
-    .endif
 
 @ ---------------------------------------------------------------------------------------------
 @ int __aeabi_fcmp{eq,lt,le,gt,ge}(float a, float b): 1 if the relation holds, else 0; 0 when
