@@ -195,6 +195,19 @@ prepare_softfloat_host() {
   fi
 }
 
+# check_fdiv_bound: the host proof of the M0 division's error bound over every divisor
+# significand (firmware/src/fdiv_proof.rs), run by the firmware crate's host stub.
+check_fdiv_bound() {
+  local line
+  if [ ! -x "$TD/release/picomis-firmware" ]; then
+    fail "fdiv-bound: no host stub (picomis-firmware)"
+  elif line=$("$TD/release/picomis-firmware" fdiv-bound 2>&1); then
+    pass "$line"
+  else
+    fail "$(printf '%s' "$line" | tail -n 3 | tr '\n' ' ')"
+  fi
+}
+
 # check_softfloat NAME TARGET: builds the softfloat-check firmware, which runs the soft-float
 # routines on the operand pairs of fpcheck.rs and compares each result with compiler-builtins
 # (exit status 6 on a mismatch), and compares its digest line with the host's.
@@ -273,6 +286,7 @@ cmd_test() {
   done
   check_build m4-board-rtt $M4 "--no-default-features --features rtt"
   # Cortex-M0, 64x48 (16 KiB RAM); its hand-written soft float first.
+  check_fdiv_bound
   check_softfloat m0-softfloat $M0
   check_render m0-veach $M0 "" "$VEACH" 64 48 1 0
   check_render m0-veach-rtt $M0 "--features rtt" "$VEACH" 64 48 1 0

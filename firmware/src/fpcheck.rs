@@ -117,6 +117,116 @@ pub fn operands(i: u32) -> (u32, u32) {
     }
 }
 
+/// Division pairs checked (about 2 s of QEMU per million).
+pub const DIV_PAIRS: u32 = 1 << 24;
+
+/// A float from its sign (bit 31 of `sign`), biased exponent (0..=255) and 23 fraction bits.
+fn float_bits(sign: u32, e: u32, fraction: u32) -> u32 {
+    (sign & 0x8000_0000) | (e & 0xff) << 23 | (fraction & 0x7f_ffff)
+}
+
+/// Division pair number `i` (bit patterns): random bits and the classes that are hard for a
+/// division (see the match arms). The M0's `__aeabi_fdiv` reads a 128-entry reciprocal table
+/// indexed by the divisor's top 7 fraction bits, so one class puts the divisor at the table's
+/// boundaries.
+pub fn div_operands(i: u32) -> (u32, u32) {
+    let r0 = mix(i.wrapping_mul(5).wrapping_add(0x2545_f491));
+    let r1 = mix(r0 ^ 0x5bd1_e995);
+    let r2 = mix(r1 ^ 0x27d4_eb2f);
+    let r3 = mix(r2 ^ 0x1656_67b1);
+    // An exponent for b that leaves room for a's to be chosen relative to it.
+    let eb = 40 + r2 % 170;
+    match i % 12 {
+        // Any bit patterns.
+        0 | 1 => (r0, r1),
+        // Normal operands, any exponents.
+        2 => (float_bits(r0, 1 + (r2 >> 8) % 254, r0), float_bits(r1, 1 + (r3 >> 8) % 254, r1)),
+        // Results near and below the smallest normal: subnormal results, underflow to zero and
+        // rounding up to the smallest normal (ea - eb + 127 in -30..=2).
+        3 => {
+            let eb = 160 + r2 % 90;
+            (float_bits(r0, eb - 157 + r3 % 33, r0), float_bits(r1, eb, r1))
+        }
+        // Results near and above the largest normal: overflow to infinity and rounding up to
+        // it (ea - eb + 127 in 252..=258).
+        4 => {
+            let eb = 1 + r2 % 120;
+            (float_bits(r0, eb + 125 + r3 % 7, r0), float_bits(r1, eb, r1))
+        }
+        // The divisor's significand at a reciprocal-table boundary (top 7 fraction bits k, the
+        // low 16 bits within 3 of 0 or of 0xffff), or the dividend's.
+        5 => {
+            let k = r2 % 128;
+            let low = [0, 1, 2, 3, 0xffff, 0xfffe, 0xfffd, 0xfffc][(r3 % 8) as usize];
+            let edge = float_bits(r1, eb, k << 16 | low);
+            let a = float_bits(r0, 1 + (r3 >> 8) % 254, r0);
+            if r3 & 0x10 == 0 {
+                (a, edge)
+            } else {
+                (float_bits(r0, 1 + (r3 >> 8) % 254, k << 16 | low), edge)
+            }
+        }
+        // The dividend's significand equal to the divisor's, or within 2 ulps (both sides of the
+        // A < B doubling), any exponents and signs.
+        6 => {
+            let b = float_bits(r1, eb, r1);
+            let f = (r1 & 0x7f_ffff).wrapping_add(r3 % 5).wrapping_sub(2) & 0x7f_ffff;
+            (float_bits(r0, 1 + (r2 >> 8) % 254, f), b)
+        }
+        // Powers of two: the divisor, the dividend or both.
+        7 => {
+            let p = float_bits(r3, 1 + (r2 >> 8) % 254, 0);
+            match r3 % 3 {
+                0 => (float_bits(r0, 1 + (r0 >> 8) % 254, r0), p),
+                1 => (p, float_bits(r1, eb, r1)),
+                _ => (p, float_bits(r1, 1 + (r1 >> 8) % 254, 0)),
+            }
+        }
+        // Quotients within an ulp/2^24 of halfway between two floats (exact ties cannot happen
+        // with a normal result): a significand A = floor(Q B / 2^24) + {0, 1} for an odd Q, so
+        // that A 2^24 / B is just below or just above the odd Q.
+        8 => {
+            let sb = 1 << 23 | (r1 & 0x7f_ffff);
+            let span = ((1u64 << 48) / u64::from(sb)) as u32 - (1 << 24); // A < 2^24
+            let q = ((1 << 24) + r2 % span.max(1)) | 1;
+            let sa = ((u64::from(q) * u64::from(sb)) >> 24) as u32 + (r3 & 1);
+            let sa = sa.min((1 << 24) - 1);
+            (float_bits(r0, 1 + (r3 >> 8) % 254, sa), float_bits(r1, eb, sb))
+        }
+        // Exact quotients of short significands (12 bits) made subnormal, 0 to 13 of their bits
+        // shifted out: exact results, exact ties of both parities (round to even), underflow.
+        9 => {
+            let mq = 1 << 11 | (r0 & 0x7ff);
+            let mb = 1 << 11 | (r1 & 0x7ff);
+            // a's significand mq mb (24 bits, normalized) over b's mb 2^12: the quotient is
+            // mq 2^-12, or mq 2^-11 when the product was shifted up, times 2^(ea - eb).
+            let (p, up) = if mq * mb < 1 << 23 { ((mq * mb) << 1, 1) } else { (mq * mb, 0) };
+            // Biased exponent of the quotient ea - eb + 126 + up = 1 - s for s in 12..=25.
+            let eb = 160 + r2 % 90;
+            let ea = eb - 125 - up - (12 + r3 % 14);
+            (float_bits(r0, ea, p), float_bits(r1, eb, mb << 12))
+        }
+        // Subnormal and tiny operands (exponent fields 0..=3), both signs, against normals or
+        // each other.
+        10 => match r3 % 3 {
+            0 => (r0 & 0x81ff_ffff, r1 & 0x81ff_ffff),
+            1 => (r0 & 0x81ff_ffff, float_bits(r1, 1 + (r2 >> 8) % 254, r1)),
+            _ => (float_bits(r0, 1 + (r2 >> 8) % 254, r0), r1 & 0x81ff_ffff),
+        },
+        // Special values (signed zeros, infinities, NaNs, extreme normals and subnormals) with a
+        // random operand or with each other.
+        _ => {
+            let n = SPECIALS.len() as u32;
+            let s = SPECIALS[(r2 % n) as usize];
+            match r3 % 3 {
+                0 => (s, r1),
+                1 => (r0, s),
+                _ => (s, SPECIALS[(r1 % n) as usize]),
+            }
+        }
+    }
+}
+
 /// One NaN for all: x86 and Arm give different NaN bit patterns.
 pub fn canonical(bits: u32) -> u32 {
     if (bits << 1) > 0xff00_0000 { 0x7fc0_0000 } else { bits }
@@ -140,11 +250,20 @@ pub struct Digests {
     pub mul: u32,
     pub cmp: u32,
     pub lmul: u32,
+    /// The quotients of the [`DIV_PAIRS`] division pairs ([`div_operands`]).
+    pub div: u32,
 }
 
 impl Digests {
     pub const fn new() -> Self {
-        Self { add: 0x811c_9dc5, sub: 0x811c_9dc5, mul: 0x811c_9dc5, cmp: 0x811c_9dc5, lmul: 0x811c_9dc5 }
+        Self {
+            add: 0x811c_9dc5,
+            sub: 0x811c_9dc5,
+            mul: 0x811c_9dc5,
+            cmp: 0x811c_9dc5,
+            lmul: 0x811c_9dc5,
+            div: 0x811c_9dc5,
+        }
     }
 
     fn fold(h: u32, v: u32) -> u32 {
@@ -162,9 +281,10 @@ impl Digests {
 }
 
 /// Digests of this machine's f32 operations (the host's reference; on the target, the
-/// routines under test).
+/// routines under test). `each_quotient(i, a, b, a / b)` sees every division (the target
+/// compares it with compiler-builtins' there, so that the long division run is done once).
 #[inline(never)]
-pub fn digests() -> Digests {
+pub fn digests(mut each_quotient: impl FnMut(u32, u32, u32, u32)) -> Digests {
     let mut d = Digests::new();
     for i in 0..PAIRS {
         let (a, b) = operands(i);
@@ -172,6 +292,13 @@ pub fn digests() -> Digests {
         let (p, q) = wide(i, a, b);
         let lmul = core::hint::black_box(p).wrapping_mul(core::hint::black_box(q));
         d.push((x + y).to_bits(), (x - y).to_bits(), (x * y).to_bits(), compare_bits(x, y), lmul);
+    }
+    for i in 0..DIV_PAIRS {
+        let (a, b) = div_operands(i);
+        let (x, y) = (core::hint::black_box(f32::from_bits(a)), core::hint::black_box(f32::from_bits(b)));
+        let q = (x / y).to_bits();
+        d.div = Digests::fold(d.div, canonical(q));
+        each_quotient(i, a, b, q);
     }
     d
 }
@@ -196,13 +323,23 @@ pub fn run() -> u32 {
         fn __gtsf2(a: f32, b: f32) -> i32;
         fn __gesf2(a: f32, b: f32) -> i32;
         fn __muldi3(a: u64, b: u64) -> u64;
+        fn __divsf3(a: f32, b: f32) -> f32;
     }
-    let d = digests();
-    info!(
-        "softfloat digest: {} pairs, add {} sub {} mul {} cmp {} lmul {}",
-        PAIRS, d.add, d.sub, d.mul, d.cmp, d.lmul
-    );
     let mut mismatches = 0u32;
+    let d = digests(|i, a, b, q| {
+        // SAFETY: compiler-builtins' soft-float division takes and returns plain f32 values.
+        let lib = unsafe { __divsf3(f32::from_bits(a), f32::from_bits(b)) }.to_bits();
+        if q != lib {
+            if mismatches < 8 {
+                info!("softfloat mismatch: division pair {} a {} b {}: ours {} library {}", i, a, b, q, lib);
+            }
+            mismatches += 1;
+        }
+    });
+    info!(
+        "softfloat digest: {} pairs, add {} sub {} mul {} cmp {} lmul {}; {} division pairs, div {}",
+        PAIRS, d.add, d.sub, d.mul, d.cmp, d.lmul, DIV_PAIRS, d.div
+    );
     for i in 0..PAIRS {
         let (a, b) = operands(i);
         let (x, y) = (core::hint::black_box(f32::from_bits(a)), core::hint::black_box(f32::from_bits(b)));
@@ -242,6 +379,6 @@ pub fn run() -> u32 {
             }
         }
     }
-    info!("softfloat library comparison: {} mismatches in {} results", mismatches, 5 * PAIRS);
+    info!("softfloat library comparison: {} mismatches in {} results", mismatches, 5 * PAIRS + DIV_PAIRS);
     if mismatches == 0 { 0 } else { 6 }
 }

@@ -12,21 +12,28 @@
 
 /// A host build (`cargo build --workspace`) gets this stub; the firmware needs `--target`.
 /// `picomis-firmware softfloat-digest` prints the host's digests of the soft-float check
-/// (see fpcheck.rs), which `scripts/firmware.sh test` compares with the firmware's.
+/// (see fpcheck.rs), which `scripts/firmware.sh test` compares with the firmware's;
+/// `picomis-firmware fdiv-bound` proves the M0 division's error bound (see fdiv_proof.rs).
 #[cfg(not(target_os = "none"))]
 fn main() {
-    if std::env::args().nth(1).as_deref() == Some("softfloat-digest") {
-        let d = fpcheck::digests();
-        println!(
-            "softfloat digest: {} pairs, add {} sub {} mul {} cmp {} lmul {}",
-            fpcheck::PAIRS,
-            d.add,
-            d.sub,
-            d.mul,
-            d.cmp,
-            d.lmul
-        );
-        return;
+    match std::env::args().nth(1).as_deref() {
+        Some("softfloat-digest") => {
+            let d = fpcheck::digests(|_, _, _, _| {});
+            println!(
+                "softfloat digest: {} pairs, add {} sub {} mul {} cmp {} lmul {}; {} division pairs, div {}",
+                fpcheck::PAIRS,
+                d.add,
+                d.sub,
+                d.mul,
+                d.cmp,
+                d.lmul,
+                fpcheck::DIV_PAIRS,
+                d.div
+            );
+            return;
+        }
+        Some("fdiv-bound") => std::process::exit(if fdiv_proof::run() { 0 } else { 1 }),
+        _ => {}
     }
     eprintln!(
         "picomis-firmware runs on a microcontroller: build it in firmware/ (target thumbv7em-none-eabihf \
@@ -75,6 +82,9 @@ mod clock;
 mod digest;
 #[cfg(target_os = "none")]
 mod fault;
+// The M0 division's error bound, proved on the host (`picomis-firmware fdiv-bound`).
+#[cfg(not(target_os = "none"))]
+mod fdiv_proof;
 #[cfg(all(target_os = "none", feature = "fixed-proto"))]
 mod fixed_proto;
 mod fpcheck;

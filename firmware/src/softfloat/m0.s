@@ -1,7 +1,7 @@
 @ picomis: single-precision soft float for ARMv6-M (Thumb-1), see mod.rs.
 @ AAPCS: operands in r0, r1, result in r0; r0-r3, r12 and the flags may be clobbered.
 @ Round to nearest, ties to even. Fast paths for normal operands with a normal result; the rest
-@ goes, with the original operands, to compiler-builtins' __addsf3 / __mulsf3.
+@ goes, with the original operands, to compiler-builtins' __addsf3 / __mulsf3 / __divsf3.
 
     .syntax unified
     .thumb
@@ -225,6 +225,121 @@ __aeabi_fmul:
     .balign 4
 9:  .word __mulsf3
     .size __aeabi_fmul, . - __aeabi_fmul
+
+@ ---------------------------------------------------------------------------------------------
+@ float __aeabi_fdiv(float a, float b)
+@ With A = 1.fa and B = 1.fb as 24-bit integers (A doubled when A < B, so that A / B is in
+@ [1, 2)), the result's significand comes from Q' = floor(A 2^24 / B), 25 bits. A quotient of
+@ 24-bit significands never lies exactly halfway between two 24-bit values (A 2^24 has 24 or more
+@ factors of two, B at most 23), so rounding to nearest is (Q' + 1) >> 1 and no sticky bit is
+@ needed. Q' is built from a 16-bit reciprocal X <= 2^39 / B (a 128-entry table, one Newton
+@ step) in two digit steps, q1 (15 bits) and q2 (about 10 more), each from a remainder that is
+@ exact because its true value is small (computed mod 2^32 with MULS), then made exact by one
+@ correction from the final remainder. The bounds in the comments are proved for every B (and
+@ so every A) by firmware/src/fdiv_proof.rs (`picomis-firmware fdiv-bound`); fpcheck.rs checks
+@ the routine against compiler-builtins' __divsf3 bit for bit.
+    .section .text.picomis_fdiv,"ax",%progbits
+    .balign 4
+    .global __aeabi_fdiv
+    .type __aeabi_fdiv, %function
+    .thumb_func
+__aeabi_fdiv:
+    push {r0, r1, r4, r5, r6, r7, lr}
+    lsls r3, r1, #1
+    lsrs r3, r3, #24
+    subs r3, r3, #1             @ eb - 1
+    cmp r3, #253
+    bhi .Lfdiv_lib              @ b is zero, subnormal, infinite or NaN
+    lsls r2, r0, #1
+    lsrs r2, r2, #24
+    subs r2, r2, #1             @ ea - 1
+    cmp r2, #253
+    bhi .Lfdiv_aspecial
+    subs r4, r2, r3             @ ea - eb
+    movs r5, #1
+    lsls r5, r5, #23            @ 2^23, the implicit one
+    lsls r2, r0, #9
+    lsrs r2, r2, #9
+    orrs r2, r2, r5             @ A = 1.fa
+    lsls r3, r1, #9
+    lsrs r3, r3, #9
+    orrs r3, r3, r5             @ B = 1.fb, in [2^23, 2^24)
+    eors r0, r0, r1             @ sign of the result in bit 31
+    cmp r2, r3
+    bhs 1f
+    lsls r2, r2, #1             @ A < B: 2A, in (B, 2B), and the exponent one lower
+    subs r4, r4, #1
+1:  adds r4, r4, #126           @ e - 1, e = ea - eb + 127 the result's biased exponent
+    cmp r4, #253
+    bhi .Lfdiv_lib              @ subnormal or overflowing result
+    @ X0 = 2^24 / (257 + 2i) for B in [2^23 + 2^16 i, 2^23 + 2^16 (i + 1)): 1 / the middle of
+    @ the interval, within 1/257 of 2^31 / b16 below, with b16 = (B >> 8) + 1 >= B / 2^8.
+    ldr r7, .Lfdiv_tab
+    lsrs r6, r3, #16            @ 128 + i
+    lsls r6, r6, #1
+    ldrh r6, [r7, r6]           @ X0
+    lsrs r7, r3, #8
+    adds r7, r7, #1             @ b16, in (2^15, 2^16]
+    muls r7, r6, r7             @ P = X0 b16 < 2^32, within 2^31 / 257 of 2^31
+    lsls r1, r5, #8             @ 2^31
+    subs r7, r1, r7             @ E = 2^31 - P, |E| < 2^23
+    asrs r7, r7, #8
+    muls r7, r6, r7             @ X0 floor(E / 2^8), |.| < 2^31
+    asrs r7, r7, #23
+    adds r6, r6, r7             @ X = X0 (1 + E / 2^31), rounded down: X <= 2^31 / b16 <= 2^39 / B
+    @ q1 = floor((A >> 9) X / 2^16) <= A 2^14 / B
+    lsrs r7, r2, #9             @ A >> 9 < 2^16 (A < 2^25)
+    muls r7, r6, r7             @ < 2^32 (X <= 2^16)
+    lsrs r7, r7, #16            @ q1 < 2^15
+    lsls r1, r2, #14
+    movs r5, r7
+    muls r5, r3, r5
+    subs r1, r1, r5             @ r1 = A 2^14 - q1 B, in [0, 2^26): exact mod 2^32
+    @ q2 = floor((r1 >> 11) X / 2^18) <= r1 2^10 / B, at most 1 below
+    lsrs r5, r1, #11            @ < 2^16 (r1 < 2^27)
+    muls r5, r6, r5
+    lsrs r5, r5, #18            @ q2
+    lsls r7, r7, #10
+    adds r7, r7, r5             @ Q = q1 2^10 + q2 <= Q'
+    muls r5, r3, r5
+    lsls r1, r1, #10
+    subs r1, r1, r5             @ R = A 2^24 - Q B, in [0, 2B): exact mod 2^32
+    cmp r1, r3                  @ C = (R >= B): Q' = Q + C
+    movs r5, #1                 @ (MOVS leaves C alone)
+    adcs r7, r7, r5             @ Q' + 1, Q' in [2^24, 2^25): round to nearest, no ties
+    lsrs r7, r7, #1             @ 1.f in [2^23, 2^24]: 2^24 carries into the exponent, up to infinity
+    lsls r4, r4, #23
+    adds r7, r7, r4
+    lsrs r0, r0, #31
+    lsls r0, r0, #31
+    adds r0, r0, r7
+.Lfdiv_done:
+    add sp, #8
+    pop {r4, r5, r6, r7, pc}
+.Lfdiv_aspecial:
+    lsls r2, r0, #1
+    bne .Lfdiv_lib              @ a subnormal, infinite or NaN
+    eors r0, r0, r1             @ 0 / normal = signed 0
+    lsrs r0, r0, #31
+    lsls r0, r0, #31
+    b .Lfdiv_done
+.Lfdiv_lib:
+    pop {r0, r1, r4, r5, r6, r7}
+    pop {r2}
+    mov lr, r2
+    ldr r2, 9f
+    bx r2
+    .balign 4
+.Lfdiv_tab:
+    .word .Lfdiv_recip - 256    @ indexed by (B >> 16) in [128, 256), two bytes an entry
+9:  .word __divsf3
+.Lfdiv_recip:
+    .set i, 0
+    .rept 128
+    .hword 16777216 / (257 + 2 * i)
+    .set i, i + 1
+    .endr
+    .size __aeabi_fdiv, . - __aeabi_fdiv
 
 @ ---------------------------------------------------------------------------------------------
 @ int __aeabi_fcmp{eq,lt,le,gt,ge}(float a, float b): 1 if the relation holds, else 0; 0 when
