@@ -167,6 +167,9 @@ pub struct LightTable<const L: usize> {
     geometry: heapless::Vec<LightGeometry, L>,
     #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
     spheres: heapless::Vec<packed::SpherePacket, L>,
+    /// The indices of the lights that are not spheres (x86 hosts: the ones not in a packet).
+    #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
+    others: heapless::Vec<usize, L>,
 }
 
 impl<const L: usize> LightTable<L> {
@@ -180,8 +183,20 @@ impl<const L: usize> LightTable<L> {
                 p.add(index, &geometry);
                 self.spheres.push(p).map_err(|_| geometry)?;
             }
+        } else {
+            self.others.push(self.geometry.len()).map_err(|_| geometry)?;
         }
         self.geometry.push(geometry)
+    }
+
+    /// The lights that [`LightTable::cones`] and [`LightTable::weights`] take one at a time,
+    /// with their indices: on x86 hosts those that are not spheres, elsewhere all.
+    #[inline]
+    fn one_at_a_time(&self) -> impl Iterator<Item = (usize, &LightGeometry)> {
+        #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
+        return self.others.iter().filter_map(|&k| self.geometry.get(k).map(|g| (k, g)));
+        #[cfg(not(all(not(target_os = "none"), target_feature = "sse")))]
+        self.geometry.iter().enumerate()
     }
 
     /// Every light's geometry.
@@ -196,11 +211,7 @@ impl<const L: usize> LightTable<L> {
     /// sphere lights go four at a time (x86 hosts) or one at a time.
     #[inline]
     pub fn cones(&self, x: Vec3, n: Vec3, mut f: impl FnMut(usize, &LightCone, f32)) {
-        for (k, g) in self.geometry.iter().enumerate() {
-            #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
-            if let LightGeometry::Sphere { .. } = g {
-                continue;
-            }
+        for (k, g) in self.one_at_a_time() {
             if let Some(cone) = g.cone(x) {
                 f(k, &cone, cone.importance(n));
             }
@@ -218,18 +229,25 @@ impl<const L: usize> LightTable<L> {
     /// hosts, GGX receivers in the lanes too) or one at a time.
     #[inline]
     pub fn weights(&self, x: Vec3, n: Vec3, receiver: Option<&Receiver>, mut f: impl FnMut(usize, f32, f32)) {
-        for (k, g) in self.geometry.iter().enumerate() {
-            #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
-            if let LightGeometry::Sphere { .. } = g {
-                continue;
-            }
+        for (k, g) in self.one_at_a_time() {
             if let Some(cone) = g.cone(x) {
                 f(k, cone.importance(n), receiver.map_or(0.0, |r| cone.contribution_to(r)));
             }
         }
+        // A loop of its own for GGX receivers: what the lanes need of the receiver is set up
+        // for them only.
         #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
-        for p in &self.spheres {
-            p.weights(x, n, receiver, &mut f);
+        match receiver.map(|r| (r, *r.bsdf.material())) {
+            Some((r, Material::GgxConductor { alpha, reflectance })) => {
+                for p in &self.spheres {
+                    p.weights_ggx(x, n, r, alpha, reflectance, &mut f);
+                }
+            }
+            _ => {
+                for p in &self.spheres {
+                    p.weights(x, n, receiver, &mut f);
+                }
+            }
         }
     }
 }
@@ -242,7 +260,6 @@ mod packed {
     use wide::{CmpEq, CmpGe, CmpGt, CmpLe, CmpLt, CmpNe, f32x4};
 
     use super::{LightCone, LightGeometry, Receiver};
-    use crate::material::Material;
     use crate::math::{PI, Rgb, Vec3};
 
     #[derive(Clone, Copy, Debug, PartialEq)]
@@ -353,8 +370,8 @@ mod packed {
             }
         }
 
-        /// [`super::LightTable::weights`] for the lights of this packet: a GGX receiver's
-        /// contributions in the lanes ([`ggx_contributions`]), any other's one lane at a time.
+        /// [`super::LightTable::weights`] for the lights of this packet, the contributions
+        /// one lane at a time (see [`SpherePacket::weights_ggx`] for GGX receivers).
         #[inline]
         pub fn weights(
             &self,
@@ -365,19 +382,33 @@ mod packed {
         ) {
             let Some(lanes) = self.lanes(x, n) else { return };
             let importance = lanes.importance.to_array();
-            let packed = receiver.and_then(|r| match *r.bsdf.material() {
-                Material::GgxConductor { alpha, reflectance } => {
-                    Some(ggx_contributions(r, alpha, reflectance, &lanes, self.luminance).to_array())
-                }
-                Material::Lambertian { .. } => None,
-            });
             for (k, (&index, &importance)) in self.index.iter().zip(&importance).enumerate().take(self.len) {
                 if lanes.mask & (1 << k) != 0 {
-                    let contribution = match (&packed, receiver) {
-                        (Some(c), _) => c.get(k).copied().unwrap_or(0.0),
-                        (None, Some(r)) => self.cone(&lanes, k).contribution_to(r),
-                        (None, None) => 0.0,
-                    };
+                    let contribution = receiver.map_or(0.0, |r| self.cone(&lanes, k).contribution_to(r));
+                    f(index, importance, contribution);
+                }
+            }
+        }
+
+        /// [`super::LightTable::weights`] for the lights of this packet and the GGX receiver
+        /// `r` (`alpha`, `reflectance`), the contributions in the lanes ([`ggx_contributions`]).
+        #[inline]
+        pub fn weights_ggx(
+            &self,
+            x: Vec3,
+            n: Vec3,
+            r: &Receiver,
+            alpha: f32,
+            reflectance: Rgb,
+            f: &mut impl FnMut(usize, f32, f32),
+        ) {
+            let Some(lanes) = self.lanes(x, n) else { return };
+            let importance = lanes.importance.to_array();
+            let contribution = ggx_contributions(r, alpha, reflectance, &lanes, self.luminance).to_array();
+            for (k, ((&index, &importance), &contribution)) in
+                self.index.iter().zip(&importance).zip(&contribution).enumerate().take(self.len)
+            {
+                if lanes.mask & (1 << k) != 0 {
                     f(index, importance, contribution);
                 }
             }
