@@ -167,6 +167,9 @@ pub struct LightTable<const L: usize> {
     geometry: heapless::Vec<LightGeometry, L>,
     #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
     spheres: heapless::Vec<packed::SpherePacket, L>,
+    /// The indices of the lights that are not spheres (x86 hosts: the ones not in a packet).
+    #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
+    others: heapless::Vec<usize, L>,
 }
 
 impl<const L: usize> LightTable<L> {
@@ -180,8 +183,20 @@ impl<const L: usize> LightTable<L> {
                 p.add(index, &geometry);
                 self.spheres.push(p).map_err(|_| geometry)?;
             }
+        } else {
+            self.others.push(self.geometry.len()).map_err(|_| geometry)?;
         }
         self.geometry.push(geometry)
+    }
+
+    /// The lights that [`LightTable::cones`] and [`LightTable::weights`] take one at a time,
+    /// with their indices: on x86 hosts those that are not spheres, elsewhere all.
+    #[inline]
+    fn one_at_a_time(&self) -> impl Iterator<Item = (usize, &LightGeometry)> {
+        #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
+        return self.others.iter().filter_map(|&k| self.geometry.get(k).map(|g| (k, g)));
+        #[cfg(not(all(not(target_os = "none"), target_feature = "sse")))]
+        self.geometry.iter().enumerate()
     }
 
     /// Every light's geometry.
@@ -196,11 +211,7 @@ impl<const L: usize> LightTable<L> {
     /// sphere lights go four at a time (x86 hosts) or one at a time.
     #[inline]
     pub fn cones(&self, x: Vec3, n: Vec3, mut f: impl FnMut(usize, &LightCone, f32)) {
-        for (k, g) in self.geometry.iter().enumerate() {
-            #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
-            if let LightGeometry::Sphere { .. } = g {
-                continue;
-            }
+        for (k, g) in self.one_at_a_time() {
             if let Some(cone) = g.cone(x) {
                 f(k, &cone, cone.importance(n));
             }
@@ -210,6 +221,35 @@ impl<const L: usize> LightTable<L> {
             p.cones(x, n, &mut f);
         }
     }
+
+    /// Calls `f(k, importance, contribution)` for light `k`, in some order, for every light
+    /// whose cone seen from `x` exists, like [`LightTable::cones`]: its importance at the unit
+    /// normal `n` and its contribution to `receiver` ([`LightCone::contribution_to`]; 0 without
+    /// one). The same values, bit for bit, whether the sphere lights go four at a time (x86
+    /// hosts, GGX receivers in the lanes too) or one at a time.
+    #[inline]
+    pub fn weights(&self, x: Vec3, n: Vec3, receiver: Option<&Receiver>, mut f: impl FnMut(usize, f32, f32)) {
+        for (k, g) in self.one_at_a_time() {
+            if let Some(cone) = g.cone(x) {
+                f(k, cone.importance(n), receiver.map_or(0.0, |r| cone.contribution_to(r)));
+            }
+        }
+        // A loop of its own for GGX receivers: what the lanes need of the receiver is set up
+        // for them only.
+        #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
+        match receiver.map(|r| (r, *r.bsdf.material())) {
+            Some((r, Material::GgxConductor { alpha, reflectance })) => {
+                for p in &self.spheres {
+                    p.weights_ggx(x, n, r, alpha, reflectance, &mut f);
+                }
+            }
+            _ => {
+                for p in &self.spheres {
+                    p.weights(x, n, receiver, &mut f);
+                }
+            }
+        }
+    }
 }
 
 /// Sphere lights four at a time, with the operations of [`LightGeometry::cone`] and
@@ -217,10 +257,10 @@ impl<const L: usize> LightTable<L> {
 /// square root round the same in a lane as in a scalar, so the bits are the same.
 #[cfg(all(not(target_os = "none"), target_feature = "sse"))]
 mod packed {
-    use wide::{CmpEq, CmpGt, CmpLt, f32x4};
+    use wide::{CmpEq, CmpGe, CmpGt, CmpLe, CmpLt, CmpNe, f32x4};
 
-    use super::{LightCone, LightGeometry};
-    use crate::math::{PI, Vec3};
+    use super::{LightCone, LightGeometry, Receiver};
+    use crate::math::{PI, Rgb, Vec3};
 
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct SpherePacket {
@@ -277,9 +317,10 @@ mod packed {
             true
         }
 
-        /// [`super::LightTable::cones`] for the lights of this packet.
+        /// The cones of the packet's lights seen from `x` and their importances at `n`, with
+        /// the mask of the lanes whose cone exists; `None` where none does.
         #[inline]
-        pub fn cones(&self, x: Vec3, n: Vec3, f: &mut impl FnMut(usize, &LightCone, f32)) {
+        fn lanes(&self, x: Vec3, n: Vec3) -> Option<Lanes> {
             let vx = self.c[0] - f32x4::splat(x.x);
             let vy = self.c[1] - f32x4::splat(x.y);
             let vz = self.c[2] - f32x4::splat(x.z);
@@ -295,29 +336,161 @@ mod packed {
             let ok = outside & finite(strength) & finite(ax) & finite(ay) & finite(az);
             let mask = ok.move_mask();
             if mask == 0 {
-                return;
+                return None;
             }
             // LightCone::importance: strength times clamp(n . axis + sin_max, 0, 1), 0 unless finite.
             let v = f32x4::splat(n.x) * ax + f32x4::splat(n.y) * ay + f32x4::splat(n.z) * az + sin_max;
             let cosine = v.cmp_lt(f32x4::ZERO).blend(f32x4::ZERO, v.cmp_gt(f32x4::ONE).blend(f32x4::ONE, v));
             let importance = strength * cosine;
             let importance = finite(importance).blend(importance, f32x4::ZERO);
-            let (ax, ay, az) = (ax.to_array(), ay.to_array(), az.to_array());
-            let (sin_max, strength, importance) =
-                (sin_max.to_array(), strength.to_array(), importance.to_array());
-            let luminance = self.luminance.to_array();
-            for k in 0..self.len.min(4) {
-                if mask & (1 << k) != 0 {
-                    let cone = LightCone {
-                        axis: Vec3::new(ax[k], ay[k], az[k]),
-                        sin_max: sin_max[k],
-                        strength: strength[k],
-                        radiance: Some(luminance[k]),
-                    };
-                    f(self.index[k], &cone, importance[k]);
+            Some(Lanes { axis: [ax, ay, az], sin_max, strength, importance, mask })
+        }
+
+        /// Lane `k`'s cone.
+        #[inline]
+        fn cone(&self, lanes: &Lanes, k: usize) -> LightCone {
+            let [ax, ay, az] = lanes.axis.map(|a| a.to_array());
+            LightCone {
+                axis: Vec3::new(ax[k], ay[k], az[k]),
+                sin_max: lanes.sin_max.to_array()[k],
+                strength: lanes.strength.to_array()[k],
+                radiance: Some(self.luminance.to_array()[k]),
+            }
+        }
+
+        /// [`super::LightTable::cones`] for the lights of this packet.
+        #[inline]
+        pub fn cones(&self, x: Vec3, n: Vec3, f: &mut impl FnMut(usize, &LightCone, f32)) {
+            let Some(lanes) = self.lanes(x, n) else { return };
+            let importance = lanes.importance.to_array();
+            for (k, (&index, &importance)) in self.index.iter().zip(&importance).enumerate().take(self.len) {
+                if lanes.mask & (1 << k) != 0 {
+                    f(index, &self.cone(&lanes, k), importance);
                 }
             }
         }
+
+        /// [`super::LightTable::weights`] for the lights of this packet, the contributions
+        /// one lane at a time (see [`SpherePacket::weights_ggx`] for GGX receivers).
+        #[inline]
+        pub fn weights(
+            &self,
+            x: Vec3,
+            n: Vec3,
+            receiver: Option<&Receiver>,
+            f: &mut impl FnMut(usize, f32, f32),
+        ) {
+            let Some(lanes) = self.lanes(x, n) else { return };
+            let importance = lanes.importance.to_array();
+            for (k, (&index, &importance)) in self.index.iter().zip(&importance).enumerate().take(self.len) {
+                if lanes.mask & (1 << k) != 0 {
+                    let contribution = receiver.map_or(0.0, |r| self.cone(&lanes, k).contribution_to(r));
+                    f(index, importance, contribution);
+                }
+            }
+        }
+
+        /// [`super::LightTable::weights`] for the lights of this packet and the GGX receiver
+        /// `r` (`alpha`, `reflectance`), the contributions in the lanes ([`ggx_contributions`]).
+        #[inline]
+        pub fn weights_ggx(
+            &self,
+            x: Vec3,
+            n: Vec3,
+            r: &Receiver,
+            alpha: f32,
+            reflectance: Rgb,
+            f: &mut impl FnMut(usize, f32, f32),
+        ) {
+            let Some(lanes) = self.lanes(x, n) else { return };
+            let importance = lanes.importance.to_array();
+            let contribution = ggx_contributions(r, alpha, reflectance, &lanes, self.luminance).to_array();
+            for (k, ((&index, &importance), &contribution)) in
+                self.index.iter().zip(&importance).zip(&contribution).enumerate().take(self.len)
+            {
+                if lanes.mask & (1 << k) != 0 {
+                    f(index, importance, contribution);
+                }
+            }
+        }
+    }
+
+    /// A packet's cones seen from a point: axes, sines of the half-angles, strengths,
+    /// importances, and the mask of the lanes whose cone exists.
+    struct Lanes {
+        axis: [f32x4; 3],
+        sin_max: f32x4,
+        strength: f32x4,
+        importance: f32x4,
+        mask: i32,
+    }
+
+    /// `v` where it is positive, else 0 ([`crate::math::max0`]).
+    #[inline(always)]
+    fn max0(v: f32x4) -> f32x4 {
+        v.cmp_gt(f32x4::ZERO).blend(v, f32x4::ZERO)
+    }
+
+    /// [`LightCone::contribution_to`] of every lane's cone (radiance `luminance`) to the GGX
+    /// receiver `r` (`alpha`, `reflectance`): [`super::nearest_in_cone`], then
+    /// [`Outgoing::eval`](crate::material::Outgoing::eval) with [`crate::sampling::ggx_d`] and
+    /// [`crate::sampling::ggx_g1`], with the same operations in the same order; each branch
+    /// is computed in every lane and the scalar code's choice blended in.
+    #[inline]
+    fn ggx_contributions(
+        r: &Receiver,
+        alpha: f32,
+        reflectance: Rgb,
+        lanes: &Lanes,
+        luminance: f32x4,
+    ) -> f32x4 {
+        let s = f32x4::splat;
+        let (zero, one) = (f32x4::ZERO, f32x4::ONE);
+        let [ax, ay, az] = lanes.axis;
+        let sin_max = lanes.sin_max;
+        // The axis in the receiver's frame (Frame::to_local).
+        let (t, b, nn) = (r.frame.t, r.frame.b, r.frame.n);
+        let lx = ax * s(t.x) + ay * s(t.y) + az * s(t.z);
+        let ly = ax * s(b.x) + ay * s(b.y) + az * s(b.z);
+        let lz = ax * s(nn.x) + ay * s(nn.y) + az * s(nn.z);
+        // nearest_in_cone(l, sin_max, lobe).
+        let lobe = r.lobe;
+        let cos_a = lx * s(lobe.x) + ly * s(lobe.y) + lz * s(lobe.z);
+        let cos_max = max0(one - sin_max * sin_max).sqrt();
+        let (vx, vy, vz) = (s(lobe.x) - lx * cos_a, s(lobe.y) - ly * cos_a, s(lobe.z) - lz * cos_a);
+        let len2 = vx * vx + vy * vy + vz * vz;
+        let normalizes = len2.cmp_gt(zero) & finite(len2);
+        let inv = one / len2.sqrt();
+        let turned = |l: f32x4, v: f32x4| normalizes.blend(l * cos_max + (v * inv) * sin_max, l);
+        let lobe_itself = sin_max.cmp_ge(one) | cos_a.cmp_ge(cos_max);
+        let wx = lobe_itself.blend(s(lobe.x), turned(lx, vx));
+        let wy = lobe_itself.blend(s(lobe.y), turned(ly, vy));
+        let wz = lobe_itself.blend(s(lobe.z), turned(lz, vz));
+        // Outgoing::eval(w): zero unless wo and w are above the horizon and wo + w normalizes.
+        let wo = r.bsdf.wo();
+        let (hx, hy, hz) = (s(wo.x) + wx, s(wo.y) + wy, s(wo.z) + wz);
+        let h2 = hx * hx + hy * hy + hz * hz;
+        let inv_h = one / h2.sqrt();
+        let (mx, my, mz) = (hx * inv_h, hy * inv_h, hz * inv_h);
+        // ggx_d(m, alpha).
+        let a2 = alpha * alpha;
+        let tm = (mx * mx + my * my) / s(a2) + mz * mz;
+        let d = mz.cmp_le(zero).blend(zero, one / (s(PI * a2) * tm * tm));
+        // ggx_g1(w, alpha) (w.z > 0 where it is used).
+        let tan2 = (wx * wx + wy * wy) / (wz * wz);
+        let g1 = s(2.0) / (one + max0(one + s(alpha * alpha) * tan2).sqrt());
+        let q = d * s(r.bsdf.g1_wo()) * g1 / s(4.0 * wo.z);
+        let lum = s(0.2126) * (s(reflectance.x) * q)
+            + s(0.7152) * (s(reflectance.y) * q)
+            + s(0.0722) * (s(reflectance.z) * q);
+        let black = s(wo.z).cmp_le(zero) | wz.cmp_le(zero) | !(h2.cmp_gt(zero) & finite(h2));
+        let lum = black.blend(zero, lum);
+        // strength times max0(luminance), at most the radiance times the albedo bound
+        // (f32::min: the bound where the estimate is NaN, the estimate where the bound is).
+        let estimate = lanes.strength * max0(lum);
+        let cap = luminance * s(r.albedo);
+        let estimate = cap.cmp_ne(cap).blend(estimate, estimate.cmp_lt(cap).blend(estimate, cap));
+        finite(estimate).blend(estimate, zero)
     }
 }
 
@@ -550,6 +723,70 @@ mod tests {
         }
         // Most lights are seen, some not (inside a sphere, behind the quad).
         assert!(seen > 2000 && seen < 3200, "{seen}");
+    }
+
+    #[test]
+    fn the_table_gives_each_light_its_contribution_bit_for_bit() {
+        // Seven spheres (two packets on x86 hosts), some large and close (cones that hold the
+        // lobe, or sin_max near 1), a point light and a quad, from points and normals around
+        // them, to GGX receivers from near-mirror to rough, seen from above and below the
+        // horizon, and to a Lambertian one: the table's weights are the scalar ones.
+        let mut table: LightTable<9> = LightTable::default();
+        let mut lights = [LightGeometry::Dark; 9];
+        let q = ceiling_quad();
+        for (k, slot) in lights.iter_mut().enumerate() {
+            let g = match k {
+                2 => LightGeometry::new(
+                    &Light::Point { position: Vec3::ONE, intensity: Rgb::splat(3.0) },
+                    None,
+                ),
+                5 => LightGeometry::new(&area(&q, 2.0).0, Some(&q)),
+                _ => {
+                    let c = Vec3::new(k as f32 - 3.0, 0.5 * k as f32, 0.25);
+                    let s = Shape::sphere(c, 0.01 + 0.4 * k as f32).unwrap();
+                    LightGeometry::new(&area(&s, 1.0 + k as f32).0, Some(&s))
+                }
+            };
+            *slot = g;
+            table.push(g).unwrap();
+        }
+        let materials = [
+            Material::ggx_conductor(1e-4, Rgb::ONE).unwrap(),
+            Material::ggx_conductor(0.005, Rgb::new(1.0, 0.5, 0.25)).unwrap(),
+            Material::ggx_conductor(0.1, Rgb::splat(0.8)).unwrap(),
+            Material::ggx_conductor(1.0, Rgb::new(0.0, 0.3, 1.0)).unwrap(),
+            Material::lambertian(Rgb::splat(0.5)).unwrap(),
+        ];
+        let (mut seen, mut positive) = (0, 0);
+        for i in 0..2000 {
+            let t = i as f32 * 0.37;
+            let x = Vec3::new(4.0 * libm::sinf(t), 3.0 * libm::cosf(1.3 * t), 2.0 * libm::sinf(0.7 * t));
+            let n = Vec3::new(libm::cosf(t), 0.5, libm::sinf(2.0 * t)).normalize();
+            let frame = Frame::from_normal(n);
+            // Mostly above the horizon, sometimes below or grazing.
+            let wo = Vec3::new(libm::sinf(2.3 * t), libm::cosf(0.9 * t), libm::sinf(1.7 * t) + 0.3);
+            let wo = match i % 7 {
+                0 => Vec3::new(wo.x, wo.y, 0.0),
+                _ => wo.normalize(),
+            };
+            let bsdf = materials[i % materials.len()];
+            let receiver = Receiver::new(&bsdf.seen_from(wo), &frame);
+            let receiver = if i % 11 == 0 { None } else { Some(&receiver) };
+            let mut got = [None; 9];
+            table.weights(x, n, receiver, |k, importance, c| {
+                got[k] = Some((importance.to_bits(), c.to_bits()))
+            });
+            for (k, g) in lights.iter().enumerate() {
+                let want = g.cone(x).map(|cone| {
+                    let c = receiver.map_or(0.0, |r| cone.contribution_to(r));
+                    (cone.importance(n).to_bits(), c.to_bits())
+                });
+                assert_eq!(got[k], want, "light {k} from {x}, {bsdf:?} seen from {wo}");
+                seen += usize::from(want.is_some());
+                positive += usize::from(want.is_some_and(|(_, c)| f32::from_bits(c) > 0.0));
+            }
+        }
+        assert!(seen > 8000 && positive > 2000, "{seen} {positive}");
     }
 
     #[test]

@@ -265,12 +265,10 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         // The BSDF's part, if it has one: in the receiver's frame.
         let receiver = weighs_bsdf(&at.bsdf).then(|| Receiver::new(&at.bsdf.seen_from(wo), frame));
         let (mut importance, mut contribution) = ([0.0f32; L], [0.0f32; L]);
-        lights.cones(at.p, at.n, |k, cone, i| {
-            if let (Some(slot), Some(c)) = (importance.get_mut(k), contribution.get_mut(k)) {
+        lights.weights(at.p, at.n, receiver.as_ref(), |k, i, c| {
+            if let (Some(slot), Some(slot_c)) = (importance.get_mut(k), contribution.get_mut(k)) {
                 *slot = i;
-                if let Some(receiver) = &receiver {
-                    *c = cone.contribution_to(receiver);
-                }
+                *slot_c = c;
             }
         });
         let importance = &mut importance[..n];

@@ -152,6 +152,12 @@ impl Outgoing {
         self.wo
     }
 
+    /// G1(wo) (GGX; 0 for Lambertian).
+    #[inline]
+    pub fn g1_wo(&self) -> f32 {
+        self.g1_wo
+    }
+
     /// f(wo, wi) cos(theta_i) and the pdf of `wi`, sharing the half vector, D and G1(wo).
     #[inline]
     pub fn eval_pdf(&self, wi: Vec3) -> (Rgb, f32) {
