@@ -418,11 +418,12 @@ cmd_measure() {
     summarize "$core" "$goal" "$pre" "$WORK/$pre-size-board.elf" "board build"
     record_figures "$figures" "$core" "$per" "$t" "$r" $((d + b + u - fb)) "${stackline%% *}"
   done
-  # The fixed-point builds: printed against the target (not in budget.json: scripts/budget.sh
-  # reads a fixed list of keys).
+  # The fixed-point builds: their instructions per camera sample are budgets too.
   for c in "${FIXED_CORES[@]}"; do
     read -r core pre target film goal <<<"$c"
     summarize "$core fixed" "$goal" "$pre-fixed" "$WORK/$pre-fixed-size.elf" "qemu build"
+    [ -n "$per" ] || die "$core fixed: no instructions per camera sample"
+    printf '%s_fixed_instructions_per_camera_sample %s\n' "$(tr '[:upper:]' '[:lower:]' <<<"$core")" "$per" >>"$figures"
   done
   if [ "${1:-}" = check ]; then
     step "budget: figures against firmware/budget.json"
