@@ -32,7 +32,7 @@ const fn rsqrt_table() -> [u16; 128] {
         // The middle of [k, k + 1) 2^25 is a = (2k + 1) / 2^8; 2 * 2^15 / sqrt(a) is the integer
         // square root of 2^32 2^8 / (2k + 1), halved with rounding.
         let twice = isqrt_u64((1u64 << 40) / (2 * k + 1));
-        table[i] = ((twice + 1) / 2) as u16;
+        table[i] = twice.div_ceil(2) as u16;
         i += 1;
     }
     table
