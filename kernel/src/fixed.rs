@@ -109,6 +109,35 @@ fn isqrt(x: i64) -> i64 {
     r as i64
 }
 
+/// Soft-float Arm cores (the Cortex-M0 class): no divide instruction at all.
+const NO_DIVIDER: bool = cfg!(all(target_arch = "arm", not(target_abi = "eabihf")));
+
+/// floor(n / d) for 0 <= n < 2^31 d and 1 <= d <= 2^31, bit by bit in 32-bit registers: the
+/// remainder stays below d <= 2^31, so twice it plus a bit fits a u32, and n >> 31 < d starts it.
+/// One word holds the dividend's 31 low bits, shifted out at the top, and the quotient bits,
+/// shifted in at the bottom. Replaces the 64-bit division (compiler-builtins' `__aeabi_uldivmod`,
+/// about 440 instructions on the M0), which a quad test pays once per plane hit in range.
+/// Outside the bounds (never reached: the quad test's range check implies them), the 64-bit
+/// division.
+#[inline]
+fn div_floor(n: i64, d: i64) -> i64 {
+    if !(n >= 0 && (1..=1 << 31).contains(&d) && n >> 31 < d) {
+        return n.checked_div(d).unwrap_or(0);
+    }
+    let d = d as u32;
+    let mut rem = (n >> 31) as u32; // < d
+    let mut w = (n as u32) << 1; // dividend bits 30..0 on top
+    for _ in 0..31 {
+        rem = (rem << 1) | (w >> 31);
+        w <<= 1;
+        if rem >= d {
+            rem -= d;
+            w |= 1;
+        }
+    }
+    i64::from(w)
+}
+
 /// trunc(x 2^s) for s <= 126 (`None` for NaN) from the bits of x, with no soft-float call:
 /// what `(x * 2^s) as i64` gives for |x 2^s| < 2^40, and +-2^40 beyond (infinities too).
 #[inline]
@@ -250,7 +279,9 @@ fn distance(shape: &FixedShape, r: &FixedRay) -> Option<i64> {
             if an >= r.hi * ad || an < (r.lo + 1) * ad {
                 return None;
             }
-            let t = an.checked_div(ad)?;
+            // The M0 has no divider: `div_floor` there (RV32IMC's 64-bit division uses `divu`
+            // and is cheaper than the loop).
+            let t = if NO_DIVIDER { div_floor(an, ad) } else { an.checked_div(ad)? };
             let p0 = wide(p0);
             let q = [
                 r.o[0] + ((r.d[0] * t) >> Q) - p0[0],
@@ -435,6 +466,34 @@ mod tests {
         }
         assert_eq!(trunc_scaled(f32::INFINITY, 3), Some(1 << 40));
         assert_eq!(trunc_scaled(-1.5, 1), Some(-3));
+    }
+
+    /// `div_floor` equals the 64-bit division over its bounds' edges and a random sample of
+    /// them (and outside them too).
+    #[test]
+    fn div_floor_is_the_division() {
+        let check = |n: i64, d: i64| assert_eq!(div_floor(n, d), n / d, "{n} / {d}");
+        let ds = [1i64, 2, 3, 5, 0x7fff, 0x1_0000, 0x7fff_ffff, 1 << 30, (1 << 30) + 1, 1 << 31];
+        for d in ds {
+            let top = (1i64 << 31) * d; // n < top
+            for n in [0, 1, d - 1, d, d + 1, 2 * d - 1, top / 2, top - d - 1, top - d, top - 1] {
+                check(n.max(0), d);
+            }
+            check(top, d); // outside the bounds: the fallback
+        }
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        for i in 0..if cfg!(debug_assertions) { 200_000 } else { 4_000_000 } {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            // Divisors of every magnitude up to 2^31, quotients of every magnitude below 2^31.
+            let d = ((x >> 33) >> (x & 31)).max(1) as i64 + (i & 1);
+            let q = ((x >> 8) as u32 >> ((x >> 40) & 31)) as i64 & 0x7fff_ffff;
+            let r = (x as i64 & 0x7fff_ffff) % d;
+            check(q * d + r, d.min(1 << 31));
+        }
+        check(-1, 3);
+        check(5, 0x1_0000_0000);
     }
 
     #[test]

@@ -66,6 +66,7 @@ pub mod sampling;
 pub mod scene;
 pub mod settings;
 pub mod shape;
+pub mod sqrt;
 pub mod study;
 pub mod tonemap;
 

@@ -17,9 +17,10 @@ pub const INV_PI: f32 = core::f32::consts::FRAC_1_PI;
 pub const SOFT_FLOAT: bool =
     cfg!(all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f")));
 
-/// Correctly rounded square root. On hard-float Arm cores this is the FPU's `vsqrt.f32`; elsewhere
-/// libm's `sqrtf` (software on Cortex-M0, `sqrtss` on x86). IEEE 754 requires the square root to
-/// be correctly rounded, so every path gives the same bits.
+/// Correctly rounded square root. On hard-float Arm cores this is the FPU's `vsqrt.f32`; on the
+/// soft-float cores (Cortex-M0, RV32IMC) [`crate::sqrt::sqrt_f32`], in 32-bit integer operations;
+/// elsewhere libm's `sqrtf` (`sqrtss` on x86). IEEE 754 requires the square root to be correctly
+/// rounded, so every path gives the same bits (NaN payloads aside).
 #[inline]
 pub fn sqrt(x: f32) -> f32 {
     #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
@@ -43,7 +44,14 @@ pub fn sqrt(x: f32) -> f32 {
         }
         f32::from_bits(bits)
     }
-    #[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+    #[cfg(all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f")))]
+    {
+        crate::sqrt::sqrt_f32(x)
+    }
+    #[cfg(not(any(
+        all(target_arch = "arm", target_abi = "eabihf"),
+        all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f"))
+    )))]
     {
         libm::sqrtf(x)
     }
