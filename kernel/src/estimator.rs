@@ -332,7 +332,7 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
 /// f L_e / p_b. Without the control variate that is the first surface, if it is a light's front
 /// side. With it, a light in closed form counts with f L_e (V - 1) / p_b: only when the ray meets
 /// its front side behind another surface.
-#[inline]
+#[inline(never)]
 fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
