@@ -382,8 +382,9 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
 }
 
 /// The spherical rectangle a rectangular quad light subtends at `x`, when quads are sampled in
-/// solid angle and f32 can resolve it (else the light is sampled by area).
-#[inline]
+/// solid angle and f32 can resolve it (else the light is sampled by area). The setting's test
+/// stays inline (it is the same for the whole render); the rest may go out of line.
+#[inline(always)]
 fn rectangle_seen_from(
     shape: &Shape,
     x: Vec3,
@@ -392,6 +393,12 @@ fn rectangle_seen_from(
     if quads == QuadSampling::Area {
         return None;
     }
+    rectangle_in_solid_angle(shape, x)
+}
+
+/// [`rectangle_seen_from`] when quads are sampled in solid angle.
+#[inline]
+fn rectangle_in_solid_angle(shape: &Shape, x: Vec3) -> Option<(Rectangle, SphericalRectangle)> {
     let rect = shape.as_rectangle()?;
     let d = rect.p0 - x;
     let corner = Vec3::new(d.dot(rect.ex), d.dot(rect.ey), d.dot(rect.n));
