@@ -15,7 +15,7 @@ use crate::ids::{LightId, ShapeId};
 use crate::light::Light;
 use crate::light_importance::{Receiver, weighs_bsdf};
 use crate::material::Material;
-use crate::math::{Frame, Rgb, Vec2, Vec3, max0, safe_sqrt, sqrt};
+use crate::math::{Frame, Rgb, Vec2, Vec3, max0, positive_finite, safe_sqrt, sqrt};
 use crate::sampling::{
     GRID, GridDistribution, SphericalRectangle, bilinear_pdf, cone_one_minus_cos,
     invert_spherical_rectangle_sample, sample_bilinear, sample_spherical_rectangle, sample_uniform_cone,
@@ -561,7 +561,7 @@ fn sample_sphere_cone(center: Vec3, radius: f32, x: Vec3, u: Vec2) -> Option<Lig
     let sin2 = local.x * local.x + local.y * local.y;
     let distance = max0(d * local.z - safe_sqrt(radius * radius - d2 * sin2));
     let pdf = uniform_cone_pdf(omc);
-    (pdf > 0.0 && pdf.is_finite()).then_some(LightSample::towards(wi, distance, pdf))
+    positive_finite(pdf).then_some(LightSample::towards(wi, distance, pdf))
 }
 
 #[cfg(test)]
