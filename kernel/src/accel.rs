@@ -545,8 +545,6 @@ mod plain {
         }
     }
 
-    /// Object index of "no object".
-    const NONE: usize = usize::MAX;
     /// The roles of object a query looks at: all, emitters only, non-emitters only.
     const ALL: u8 = 0;
     const EMITTERS: u8 = 1;
@@ -575,11 +573,12 @@ mod plain {
             filter: Filter,
             objects: &[impl Target],
         ) -> Option<(f32, usize)> {
+            // One object to skip is given twice: the loop's two tests are then one.
             let (roles, skip) = match filter {
-                Filter::AllBut(a) => (ALL, (a, NONE)),
+                Filter::AllBut(a) => (ALL, (a, a)),
                 Filter::AllButTwo(a, b) => (ALL, (a, b)),
-                Filter::EmittersBut(a) => (EMITTERS, (a, NONE)),
-                Filter::OthersBut(a) => (OTHERS, (a, NONE)),
+                Filter::EmittersBut(a) => (EMITTERS, (a, a)),
+                Filter::OthersBut(a) => (OTHERS, (a, a)),
             };
             match (SOFT_FLOAT, ANY, roles, KEPT) {
                 (false, false, ALL, true) => self.scan::<0, ALL, S, KEPT>(from, skip, roles, ANY, objects),
