@@ -332,7 +332,12 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
 /// f L_e / p_b. Without the control variate that is the first surface, if it is a light's front
 /// side. With it, a light in closed form counts with f L_e (V - 1) / p_b: only when the ray meets
 /// its front side behind another surface.
-#[inline(never)]
+///
+/// Out of line (inlined into the multi-sample model's loop, its loop-invariant values were
+/// spilled around it on the M4F), except on RV32IMC, where its own frame would add some
+/// 100 bytes to the peak stack.
+#[cfg_attr(not(target_arch = "riscv32"), inline(never))]
+#[cfg_attr(target_arch = "riscv32", inline)]
 fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,
