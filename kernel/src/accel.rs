@@ -523,6 +523,8 @@ mod plain {
             objects: &[impl Target],
         ) -> Option<(f32, usize)> {
             let span = self.span(filter, objects.len());
+            // Sliced here, where the filter is known: the whole slice costs no check.
+            let objects = objects.get(span.clone()).unwrap_or_default();
             Query { ray: from.ray(dir), t_min, t_max, span }.run::<false, S, K>(from, filter, objects)
         }
 
@@ -539,6 +541,7 @@ mod plain {
             objects: &[impl Target],
         ) -> bool {
             let span = self.span(filter, objects.len());
+            let objects = objects.get(span.clone()).unwrap_or_default();
             Query { ray: from.ray(dir), t_min, t_max, span }
                 .run::<true, S, K>(from, filter, objects)
                 .is_some()
@@ -552,7 +555,8 @@ mod plain {
     /// A parameter of [`Query::scan`] decided at run time.
     const RUNTIME: u8 = 3;
 
-    /// A ray, its distance range and the span of objects to look at.
+    /// A ray, its distance range and the span of objects to look at (the objects a query runs
+    /// on are that span of the scene's).
     struct Query {
         ray: Ray,
         t_min: f32,
@@ -614,7 +618,6 @@ mod plain {
             let (ray, t_min) = (&self.ray, self.t_min);
             let (mut t_far, mut best) = (self.t_max, None);
             let first = self.span.start;
-            let objects = objects.get(self.span.clone()).unwrap_or_default();
             if KEPT {
                 let dir = FixedDir::new(ray.dir);
                 let terms = from.terms().get(self.span.clone()).unwrap_or_default();
