@@ -523,6 +523,8 @@ mod plain {
             objects: &[impl Target],
         ) -> Option<(f32, usize)> {
             let span = self.span(filter, objects.len());
+            // Sliced here, where the filter is known: the whole slice costs no check.
+            let objects = objects.get(span.clone()).unwrap_or_default();
             Query { ray: from.ray(dir), t_min, t_max, span }.run::<false, S, K>(from, filter, objects)
         }
 
@@ -539,14 +541,13 @@ mod plain {
             objects: &[impl Target],
         ) -> bool {
             let span = self.span(filter, objects.len());
+            let objects = objects.get(span.clone()).unwrap_or_default();
             Query { ray: from.ray(dir), t_min, t_max, span }
                 .run::<true, S, K>(from, filter, objects)
                 .is_some()
         }
     }
 
-    /// Object index of "no object".
-    const NONE: usize = usize::MAX;
     /// The roles of object a query looks at: all, emitters only, non-emitters only.
     const ALL: u8 = 0;
     const EMITTERS: u8 = 1;
@@ -554,7 +555,8 @@ mod plain {
     /// A parameter of [`Query::scan`] decided at run time.
     const RUNTIME: u8 = 3;
 
-    /// A ray, its distance range and the span of objects to look at.
+    /// A ray, its distance range and the span of objects to look at (the objects a query runs
+    /// on are that span of the scene's).
     struct Query {
         ray: Ray,
         t_min: f32,
@@ -575,11 +577,12 @@ mod plain {
             filter: Filter,
             objects: &[impl Target],
         ) -> Option<(f32, usize)> {
+            // One object to skip is given twice: the loop's two tests are then one.
             let (roles, skip) = match filter {
-                Filter::AllBut(a) => (ALL, (a, NONE)),
+                Filter::AllBut(a) => (ALL, (a, a)),
                 Filter::AllButTwo(a, b) => (ALL, (a, b)),
-                Filter::EmittersBut(a) => (EMITTERS, (a, NONE)),
-                Filter::OthersBut(a) => (OTHERS, (a, NONE)),
+                Filter::EmittersBut(a) => (EMITTERS, (a, a)),
+                Filter::OthersBut(a) => (OTHERS, (a, a)),
             };
             match (SOFT_FLOAT, ANY, roles, KEPT) {
                 (false, false, ALL, true) => self.scan::<0, ALL, S, KEPT>(from, skip, roles, ANY, objects),
@@ -615,7 +618,6 @@ mod plain {
             let (ray, t_min) = (&self.ray, self.t_min);
             let (mut t_far, mut best) = (self.t_max, None);
             let first = self.span.start;
-            let objects = objects.get(self.span.clone()).unwrap_or_default();
             if KEPT {
                 let dir = FixedDir::new(ray.dir);
                 let terms = from.terms().get(self.span.clone()).unwrap_or_default();

@@ -261,7 +261,17 @@ impl<'a, const L: usize> Shading<'a, L> {
         let frame = Frame::from_normal(x.point.n);
         let point = ShadingPoint { p: x.point.p, n: x.point.n, wo, bsdf: *bsdf };
         let wo = frame.to_local(wo);
-        let selection = light_sampler(scene, settings).selection_in(&point, &frame, wo);
+        // On the microcontrollers the selection reads a copy of the point: lent to the
+        // out-of-line selection by contribution, `point` itself would be built apart and copied
+        // into the struct after (some 100 instructions per shading point on the M4F). On x86
+        // the copy would cost instead.
+        let lights = light_sampler(scene, settings);
+        let selection = if cfg!(target_os = "none") {
+            let copy = point;
+            lights.selection_in(&copy, &frame, wo)
+        } else {
+            lights.selection_in(&point, &frame, wo)
+        };
         let control_variate =
             settings.control_variate() == ControlVariate::On && matches!(bsdf, Material::Lambertian { .. });
         let (covered, unoccluded) =
@@ -332,7 +342,12 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
 /// f L_e / p_b. Without the control variate that is the first surface, if it is a light's front
 /// side. With it, a light in closed form counts with f L_e (V - 1) / p_b: only when the ray meets
 /// its front side behind another surface.
-#[inline]
+///
+/// Out of line (inlined into the multi-sample model's loop, its loop-invariant values were
+/// spilled around it on the M4F), except on RV32IMC, where its own frame would add some
+/// 100 bytes to the peak stack.
+#[cfg_attr(not(target_arch = "riscv32"), inline(never))]
+#[cfg_attr(target_arch = "riscv32", inline)]
 fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     settings: &RenderSettings,

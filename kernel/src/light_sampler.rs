@@ -15,7 +15,7 @@ use crate::ids::{LightId, ShapeId};
 use crate::light::Light;
 use crate::light_importance::{Receiver, weighs_bsdf};
 use crate::material::Material;
-use crate::math::{Frame, Rgb, Vec2, Vec3, max0, safe_sqrt, sqrt};
+use crate::math::{Frame, Rgb, Vec2, Vec3, max0, positive_finite, safe_sqrt, sqrt};
 use crate::sampling::{
     GRID, GridDistribution, SphericalRectangle, bilinear_pdf, cone_one_minus_cos,
     invert_spherical_rectangle_sample, sample_bilinear, sample_spherical_rectangle, sample_uniform_cone,
@@ -382,8 +382,9 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
 }
 
 /// The spherical rectangle a rectangular quad light subtends at `x`, when quads are sampled in
-/// solid angle and f32 can resolve it (else the light is sampled by area).
-#[inline]
+/// solid angle and f32 can resolve it (else the light is sampled by area). The setting's test
+/// stays inline (it is the same for the whole render); the rest may go out of line.
+#[inline(always)]
 fn rectangle_seen_from(
     shape: &Shape,
     x: Vec3,
@@ -392,6 +393,12 @@ fn rectangle_seen_from(
     if quads == QuadSampling::Area {
         return None;
     }
+    rectangle_in_solid_angle(shape, x)
+}
+
+/// [`rectangle_seen_from`] when quads are sampled in solid angle.
+#[inline]
+fn rectangle_in_solid_angle(shape: &Shape, x: Vec3) -> Option<(Rectangle, SphericalRectangle)> {
     let rect = shape.as_rectangle()?;
     let d = rect.p0 - x;
     let corner = Vec3::new(d.dot(rect.ex), d.dot(rect.ey), d.dot(rect.n));
@@ -554,7 +561,7 @@ fn sample_sphere_cone(center: Vec3, radius: f32, x: Vec3, u: Vec2) -> Option<Lig
     let sin2 = local.x * local.x + local.y * local.y;
     let distance = max0(d * local.z - safe_sqrt(radius * radius - d2 * sin2));
     let pdf = uniform_cone_pdf(omc);
-    (pdf > 0.0 && pdf.is_finite()).then_some(LightSample::towards(wi, distance, pdf))
+    positive_finite(pdf).then_some(LightSample::towards(wi, distance, pdf))
 }
 
 #[cfg(test)]

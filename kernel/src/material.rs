@@ -3,7 +3,7 @@
 //! (`z` = normal), `wo` towards the viewer, `wi` towards the light.
 
 use crate::error::{Field, SceneError};
-use crate::math::{INV_PI, Rgb, Vec2, Vec3, finite3, try_normalize};
+use crate::math::{INV_PI, Rgb, Vec2, Vec3, finite3, positive_finite, try_normalize};
 use crate::sampling::{cosine_hemisphere_pdf, ggx_d, ggx_g1, sample_cosine_hemisphere, sample_ggx_vndf};
 
 /// The closed set of materials.
@@ -223,7 +223,7 @@ impl Outgoing {
                 }
                 // The same expression as `eval_pdf`, so both techniques' weights see equal pdfs.
                 let pdf = self.g1_wo * ggx_d(m, alpha) / (4.0 * wo.z);
-                if !(pdf > 0.0) || !pdf.is_finite() {
+                if !positive_finite(pdf) {
                     return None;
                 }
                 // f cos / pdf = R G1(wi) for visible-normal sampling.

@@ -76,11 +76,20 @@ pub fn length(v: Vec3) -> f32 {
     sqrt(v.length_squared())
 }
 
+/// `x > 0.0 && x.is_finite()`, from the bits: the positive finite floats are the bit patterns
+/// 1 to 0x7f7f_ffff (+0, infinity, NaNs and negative values lie outside). The same answer as the
+/// two comparisons, which compilers may merge into a floating-point class test that Arm cores
+/// without an FPU class instruction expand into some thirty integer instructions.
+#[inline]
+pub fn positive_finite(x: f32) -> bool {
+    x.to_bits().wrapping_sub(1) < 0x7f7f_ffff
+}
+
 /// The unit vector along `v`, or `None` when `v` is zero or not finite.
 #[inline]
 pub fn try_normalize(v: Vec3) -> Option<Vec3> {
     let len2 = v.length_squared();
-    if len2 > 0.0 && len2.is_finite() { Some(v * (1.0 / sqrt(len2))) } else { None }
+    if positive_finite(len2) { Some(v * (1.0 / sqrt(len2))) } else { None }
 }
 
 /// The unit vector along `v`, or `fallback` when `v` is zero or not finite.
@@ -203,6 +212,36 @@ impl Frame {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn positive_finite_is_the_two_comparisons() {
+        let special = [
+            0.0f32,
+            -0.0,
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            f32::from_bits(1),
+            f32::from_bits(0x8000_0001),
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+            f32::from_bits(0x7f80_0001),
+            f32::from_bits(0xffff_ffff),
+            1.0,
+            -1.0,
+        ];
+        let mut bits = 0x9e37_79b9u32;
+        let random = (0..1_000_000).map(|_| {
+            bits = bits.wrapping_mul(0x2c1b_3c6d).wrapping_add(0x297a_2d39);
+            f32::from_bits(bits)
+        });
+        for x in special.into_iter().chain(random) {
+            assert_eq!(positive_finite(x), x > 0.0 && x.is_finite(), "{:08x}", x.to_bits());
+        }
+    }
 
     #[test]
     fn trig_matches_libm_over_whole_turns() {

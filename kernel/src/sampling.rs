@@ -3,8 +3,8 @@
 //! Pdfs are per unit solid angle for directions and per unit area for points.
 
 use crate::math::{
-    INV_PI, PI, Vec2, Vec3, atan2, clamp, finite3, max0, normalize_or, safe_sqrt, sin_cos_quarter,
-    sin_cos_turns, sqrt,
+    INV_PI, PI, Vec2, Vec3, atan2, clamp, finite3, max0, normalize_or, positive_finite, safe_sqrt,
+    sin_cos_quarter, sin_cos_turns, sqrt,
 };
 
 /// Concentric map of the unit square to the unit disk (Shirley and Chiu 1997).
@@ -419,7 +419,7 @@ impl<const N: usize> GridDistribution<N> {
         for &w in weights {
             total += if w > 0.0 { w } else { 0.0 };
         }
-        if !(total > 0.0 && total.is_finite()) {
+        if !positive_finite(total) {
             return Self { ends };
         }
         // Each share rounded to the grid, at least one value if positive; the rounding difference

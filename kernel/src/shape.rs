@@ -306,11 +306,12 @@ impl Quad {
     /// The rest of the ray test from `num = plane - n . o` on, the hit distance's numerator.
     /// When `num` and the denominator `n . d` differ in sign, t = num / denom is negative or -0
     /// (a NaN `num` gives a NaN t), never above a t_min >= +0: that case skips the division
-    /// (an exact early reject).
+    /// (an exact early reject). A zero `denom` needs no test of its own: t is then +inf, -inf
+    /// or NaN, which `hit_at`'s `t > t_min && t < t_max` rejects for every t_min and t_max.
     #[inline(always)]
     fn hit(&self, num: f32, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let denom = self.n.dot(ray.dir);
-        if denom == 0.0 || (num.is_sign_negative() != denom.is_sign_negative() && !t_min.is_sign_negative()) {
+        if num.is_sign_negative() != denom.is_sign_negative() && !t_min.is_sign_negative() {
             return None;
         }
         self.hit_at(num / denom, ray, t_min, t_max)
@@ -619,6 +620,21 @@ mod tests {
         let miss = Ray { origin: Vec3::new(1.5, 0.5, 1.0), dir: -Vec3::Z };
         assert_eq!(q.intersect(&miss, 0.0, 10.0), None);
         assert_eq!(q.intersect(&down, 0.0, 0.5), None);
+    }
+
+    #[test]
+    fn rays_parallel_to_a_quad_never_hit_it() {
+        // n . d = +-0: t = num / denom is +-inf or NaN, which no distance range admits.
+        let q = Shape::quad([Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y]).unwrap();
+        for z in [1.0, 0.0, -0.0, -1.0] {
+            for dir in [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y] {
+                let ray = Ray { origin: Vec3::new(0.5, 0.5, z), dir };
+                for (t_min, t_max) in [(0.0, f32::INFINITY), (f32::NEG_INFINITY, f32::INFINITY), (-0.0, 10.0)]
+                {
+                    assert_eq!(q.intersect(&ray, t_min, t_max), None, "z {z} dir {dir} t {t_min} {t_max}");
+                }
+            }
+        }
     }
 
     #[test]
