@@ -656,9 +656,14 @@ fn tiny_light(k: f32) -> Case {
     small_light_case(format!("tiny sphere light, r/d = {k:.0e}"), tilt(30.0), k)
 }
 
+/// Group 1's cases.
+fn tiny_sphere_light_cases() -> Vec<Case> {
+    [1e-2, 1e-3, 1e-4, 1e-5, 1e-6].into_iter().map(tiny_light).collect()
+}
+
 #[test]
 fn tiny_sphere_lights() {
-    run_group(1, [1e-2, 1e-3, 1e-4, 1e-5, 1e-6].into_iter().map(tiny_light).collect());
+    run_group(1, tiny_sphere_light_cases());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -737,24 +742,26 @@ fn huge_quad() -> Case {
         )
 }
 
+/// Group 6's cases.
+fn quad_strategy_cases() -> Vec<Case> {
+    vec![
+        huge_quad().solid_angle(),
+        lit_quad().solid_angle(),
+        lit_quad().control_variate(),
+        lit_sphere().control_variate(),
+        below_horizon().control_variate(),
+        huge_quad().control_variate(),
+        huge_quad().solid_angle_cosine(),
+        lit_quad().solid_angle_cosine(),
+        horizon_quad(),
+        horizon_quad().solid_angle(),
+        horizon_quad().solid_angle_cosine(),
+    ]
+}
+
 #[test]
 fn quads_by_solid_angle_cosine_and_control_variate() {
-    run_group(
-        6,
-        vec![
-            huge_quad().solid_angle(),
-            lit_quad().solid_angle(),
-            lit_quad().control_variate(),
-            lit_sphere().control_variate(),
-            below_horizon().control_variate(),
-            huge_quad().control_variate(),
-            huge_quad().solid_angle_cosine(),
-            lit_quad().solid_angle_cosine(),
-            horizon_quad(),
-            horizon_quad().solid_angle(),
-            horizon_quad().solid_angle_cosine(),
-        ],
-    );
+    run_group(6, quad_strategy_cases());
 }
 
 /// A Lambertian floor at the origin and a 1 x 1 quad light standing upright 1 away, facing it,
@@ -773,9 +780,14 @@ fn horizon_quad() -> Case {
     Case::new("quad light cut in half by the horizon", s.scene, hit, wo_default(), Reference::Exact(exact))
 }
 
+/// Group 2's cases.
+fn huge_and_close_cases() -> Vec<Case> {
+    vec![almost_touching(), touching(), inside(), huge_quad()]
+}
+
 #[test]
 fn huge_and_close_lights() {
-    run_group(2, vec![almost_touching(), touching(), inside(), huge_quad()]);
+    run_group(2, huge_and_close_cases());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -881,21 +893,23 @@ fn veach_bound_check_can_fail() {
     assert!(wrong_weights.is_err(), "the average in balance's place must fail the bound");
 }
 
+/// Group 3's cases.
+fn glossy_and_grazing_cases() -> Vec<Case> {
+    vec![
+        near_mirror(1.0 / 3.0),
+        near_mirror(1e-2),
+        mirror_case(1e-2, 1e-2),
+        grazing_view_lambert(),
+        grazing_view_ggx(),
+        grazing_light(5e-4),
+        grazing_light(5e-7),
+        below_horizon(),
+    ]
+}
+
 #[test]
 fn glossy_and_grazing() {
-    run_group(
-        3,
-        vec![
-            near_mirror(1.0 / 3.0),
-            near_mirror(1e-2),
-            mirror_case(1e-2, 1e-2),
-            grazing_view_lambert(),
-            grazing_view_ggx(),
-            grazing_light(5e-4),
-            grazing_light(5e-7),
-            below_horizon(),
-        ],
-    );
+    run_group(3, glossy_and_grazing_cases());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1005,19 +1019,21 @@ fn zero_radiance(all_zero: bool) -> Case {
     )
 }
 
+/// Group 4's cases.
+fn point_and_mixed_light_cases() -> Vec<Case> {
+    vec![
+        point_only(),
+        point_and_sphere(),
+        mixed_powers(LightSelection::Uniform),
+        mixed_powers(LightSelection::Power),
+        zero_radiance(false),
+        zero_radiance(true),
+    ]
+}
+
 #[test]
 fn point_and_mixed_lights() {
-    run_group(
-        4,
-        vec![
-            point_only(),
-            point_and_sphere(),
-            mixed_powers(LightSelection::Uniform),
-            mixed_powers(LightSelection::Power),
-            zero_radiance(false),
-            zero_radiance(true),
-        ],
-    );
+    run_group(4, point_and_mixed_light_cases());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1118,48 +1134,9 @@ fn sphere_next_to_sphere(gap: f32) -> Case {
     Case::new(label, s.scene, hit, Vec3::new(1.0, 1.0, 0.0), Reference::Zero)
 }
 
-#[test]
-fn occlusion_and_self_intersection() {
-    run_group(
-        5,
-        vec![
-            lit_sphere(),
-            lit_quad(),
-            sphere_behind_quad(),
-            quad_behind_sphere(),
-            wall_touching_floor(),
-            sphere_next_to_sphere(1e-3),
-            sphere_next_to_sphere(0.0),
-        ],
-    );
-}
-
-// ---------------------------------------------------------------------------------------------
-// 7. Fixed-point ray queries
-
-/// Every case of the groups above, in their order.
-fn all_cases() -> Vec<Case> {
-    let mut cases: Vec<Case> = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6].into_iter().map(tiny_light).collect();
-    cases.extend([almost_touching(), touching(), inside(), huge_quad()]);
-    cases.extend([
-        near_mirror(1.0 / 3.0),
-        near_mirror(1e-2),
-        mirror_case(1e-2, 1e-2),
-        grazing_view_lambert(),
-        grazing_view_ggx(),
-        grazing_light(5e-4),
-        grazing_light(5e-7),
-        below_horizon(),
-    ]);
-    cases.extend([
-        point_only(),
-        point_and_sphere(),
-        mixed_powers(LightSelection::Uniform),
-        mixed_powers(LightSelection::Power),
-        zero_radiance(false),
-        zero_radiance(true),
-    ]);
-    cases.extend([
+/// Group 5's cases.
+fn occlusion_cases() -> Vec<Case> {
+    vec![
         lit_sphere(),
         lit_quad(),
         sphere_behind_quad(),
@@ -1167,21 +1144,30 @@ fn all_cases() -> Vec<Case> {
         wall_touching_floor(),
         sphere_next_to_sphere(1e-3),
         sphere_next_to_sphere(0.0),
-    ]);
-    cases.extend([
-        huge_quad().solid_angle(),
-        lit_quad().solid_angle(),
-        lit_quad().control_variate(),
-        lit_sphere().control_variate(),
-        below_horizon().control_variate(),
-        huge_quad().control_variate(),
-        huge_quad().solid_angle_cosine(),
-        lit_quad().solid_angle_cosine(),
-        horizon_quad(),
-        horizon_quad().solid_angle(),
-        horizon_quad().solid_angle_cosine(),
-    ]);
-    cases
+    ]
+}
+
+#[test]
+fn occlusion_and_self_intersection() {
+    run_group(5, occlusion_cases());
+}
+
+// ---------------------------------------------------------------------------------------------
+// 7. Fixed-point ray queries
+
+/// Every case of the groups above, in their order.
+fn all_cases() -> Vec<Case> {
+    [
+        tiny_sphere_light_cases(),
+        huge_and_close_cases(),
+        glossy_and_grazing_cases(),
+        point_and_mixed_light_cases(),
+        occlusion_cases(),
+        quad_strategy_cases(),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
 }
 
 /// The shape that the fixed-point format's rule rejects first, predicted from the geometry
