@@ -683,13 +683,11 @@ mod tests {
         assert_eq!(every.importance(Vec3::Y), 1.0);
     }
 
-    #[test]
-    fn the_table_gives_each_light_its_cone_bit_for_bit() {
-        // Six spheres (two packets on x86 hosts, one half empty), a point light and a quad,
-        // seen from points around, on and inside them: the table's cones and importances are
-        // the scalar ones.
-        let mut table: LightTable<8> = LightTable::default();
-        let mut lights = [LightGeometry::Dark; 8];
+    /// `N` lights in a table and as an array: a point light (index 2), a quad light (index 5)
+    /// and sphere lights of radius `r0 + dr k` elsewhere.
+    fn mixed_table<const N: usize>(r0: f32, dr: f32) -> (LightTable<N>, [LightGeometry; N]) {
+        let mut table: LightTable<N> = LightTable::default();
+        let mut lights = [LightGeometry::Dark; N];
         let q = ceiling_quad();
         for (k, slot) in lights.iter_mut().enumerate() {
             let g = match k {
@@ -700,13 +698,22 @@ mod tests {
                 5 => LightGeometry::new(&area(&q, 2.0).0, Some(&q)),
                 _ => {
                     let c = Vec3::new(k as f32 - 3.0, 0.5 * k as f32, 0.25);
-                    let s = Shape::sphere(c, 0.1 + 0.3 * k as f32).unwrap();
+                    let s = Shape::sphere(c, r0 + dr * k as f32).unwrap();
                     LightGeometry::new(&area(&s, 1.0 + k as f32).0, Some(&s))
                 }
             };
             *slot = g;
             table.push(g).unwrap();
         }
+        (table, lights)
+    }
+
+    #[test]
+    fn the_table_gives_each_light_its_cone_bit_for_bit() {
+        // Six spheres (two packets on x86 hosts, one half empty), a point light and a quad,
+        // seen from points around, on and inside them: the table's cones and importances are
+        // the scalar ones.
+        let (table, lights) = mixed_table::<8>(0.1, 0.3);
         assert_eq!(table.geometry(), &lights);
         let mut seen = 0;
         for i in 0..400 {
@@ -731,25 +738,7 @@ mod tests {
         // lobe, or sin_max near 1), a point light and a quad, from points and normals around
         // them, to GGX receivers from near-mirror to rough, seen from above and below the
         // horizon, and to a Lambertian one: the table's weights are the scalar ones.
-        let mut table: LightTable<9> = LightTable::default();
-        let mut lights = [LightGeometry::Dark; 9];
-        let q = ceiling_quad();
-        for (k, slot) in lights.iter_mut().enumerate() {
-            let g = match k {
-                2 => LightGeometry::new(
-                    &Light::Point { position: Vec3::ONE, intensity: Rgb::splat(3.0) },
-                    None,
-                ),
-                5 => LightGeometry::new(&area(&q, 2.0).0, Some(&q)),
-                _ => {
-                    let c = Vec3::new(k as f32 - 3.0, 0.5 * k as f32, 0.25);
-                    let s = Shape::sphere(c, 0.01 + 0.4 * k as f32).unwrap();
-                    LightGeometry::new(&area(&s, 1.0 + k as f32).0, Some(&s))
-                }
-            };
-            *slot = g;
-            table.push(g).unwrap();
-        }
+        let (table, lights) = mixed_table::<9>(0.01, 0.4);
         let materials = [
             Material::ggx_conductor(1e-4, Rgb::ONE).unwrap(),
             Material::ggx_conductor(0.005, Rgb::new(1.0, 0.5, 0.25)).unwrap(),
