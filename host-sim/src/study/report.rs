@@ -89,6 +89,11 @@ fn csv_field(s: &str) -> String {
     format!("\"{}\"", s.replace('"', "\"\""))
 }
 
+/// An optional error's MSE and relative MSE as two CSV fields (both empty without it).
+fn error_fields(e: Option<super::metrics::ErrorStats>) -> (String, String) {
+    e.map_or((String::new(), String::new()), |m| (format!("{:e}", m.mse), format!("{:e}", m.rel_mse)))
+}
+
 /// `results.csv` (every ladder render, and one row per rejected method with only its reason) and
 /// `equal_time.csv`.
 pub fn write_results(out: &Path, studies: &[SceneStudy]) -> Result<(), SimError> {
@@ -98,12 +103,8 @@ pub fn write_results(out: &Path, studies: &[SceneStudy]) -> Result<(), SimError>
     );
     for s in studies {
         for r in &s.records {
-            let (mm, rm) = r.mitsuba.map_or((String::new(), String::new()), |m| {
-                (format!("{:e}", m.mse), format!("{:e}", m.rel_mse))
-            });
-            let (mf, rf) = r.vs_f32.map_or((String::new(), String::new()), |m| {
-                (format!("{:e}", m.mse), format!("{:e}", m.rel_mse))
-            });
+            let (mm, rm) = error_fields(r.mitsuba);
+            let (mf, rf) = error_fields(r.vs_f32);
             let _ = writeln!(
                 csv,
                 "{},{},{},{},{},{},{:.6},{:e},{:e},{:e},{:e},{mm},{rm},{mf},{rf},",
