@@ -12,6 +12,16 @@
 @ 7..0 below the last kept bit), r5 = e - 1 with e the result's biased exponent, checked by the
 @ caller to be in 1..=254, \extra (optional) = more sticky bits, nonzero when anything below
 @ r2 is nonzero.
+@ rd = (biased exponent of the float in rs) - 1, in 0..=253 for a normal float; branches to
+@ `other` for zero, subnormals, infinities and NaNs (exponent 0 or 255: rd - 1 wraps or is 254).
+    .macro exponent_m1 rd, rs, other
+    lsls \rd, \rs, #1
+    lsrs \rd, \rd, #24
+    subs \rd, \rd, #1
+    cmp \rd, #253
+    bhi \other
+    .endm
+
     .macro pack_round done, extra
     lsls r4, r5, #23            @ (e - 1) << 23: the leading one adds the last 1
     lsrs r1, r2, #8             @ 1.f, 24 bits
@@ -146,16 +156,8 @@ __aeabi_fadd:
     .thumb_func
 __aeabi_fmul:
     push {r0, r1, r4, r5, r6, r7, lr}
-    lsls r2, r0, #1
-    lsrs r2, r2, #24
-    subs r2, r2, #1             @ ea - 1
-    cmp r2, #253
-    bhi .Lfmul_special          @ ea is 0 or 255
-    lsls r3, r1, #1
-    lsrs r3, r3, #24
-    subs r3, r3, #1             @ eb - 1
-    cmp r3, #253
-    bhi .Lfmul_special
+    exponent_m1 r2, r0, .Lfmul_special  @ ea - 1
+    exponent_m1 r3, r1, .Lfmul_special  @ eb - 1
     adds r4, r2, r3
     subs r4, r4, #125           @ e = ea + eb - 127, for a product of significands in [1, 2)
     @ 1.fa = ah * 2^16 + al, 1.fb = bh * 2^16 + bl (ah, bh: 8 bits; al, bl: 16 bits)
@@ -245,16 +247,8 @@ __aeabi_fmul:
     .thumb_func
 __aeabi_fdiv:
     push {r0, r1, r4, r5, r6, r7, lr}
-    lsls r3, r1, #1
-    lsrs r3, r3, #24
-    subs r3, r3, #1             @ eb - 1
-    cmp r3, #253
-    bhi .Lfdiv_lib              @ b is zero, subnormal, infinite or NaN
-    lsls r2, r0, #1
-    lsrs r2, r2, #24
-    subs r2, r2, #1             @ ea - 1
-    cmp r2, #253
-    bhi .Lfdiv_aspecial
+    exponent_m1 r3, r1, .Lfdiv_lib      @ eb - 1 (b zero, subnormal, infinite or NaN: the library)
+    exponent_m1 r2, r0, .Lfdiv_aspecial @ ea - 1
     subs r4, r2, r3             @ ea - eb
     movs r5, #1
     lsls r5, r5, #23            @ 2^23, the implicit one
