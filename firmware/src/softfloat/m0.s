@@ -22,6 +22,16 @@
     bhi \other
     .endm
 
+@ Restores the original operands, the saved registers and the return address, then jumps to
+@ the library routine whose address is the word at `literal`: it returns to our caller.
+    .macro tail_call_library literal
+    pop {r0, r1, r4, r5, r6, r7}
+    pop {r2}
+    mov lr, r2
+    ldr r2, \literal
+    bx r2
+    .endm
+
     .macro pack_round done, extra
     lsls r4, r5, #23            @ (e - 1) << 23: the leading one adds the last 1
     lsrs r1, r2, #8             @ 1.f, 24 bits
@@ -137,11 +147,7 @@ __aeabi_fadd:
     ands r0, r0, r1             @ 0 + 0: -0 only when both are -0
     b .Lfadd_done
 .Lfadd_lib:
-    pop {r0, r1, r4, r5, r6, r7}
-    pop {r2}
-    mov lr, r2
-    ldr r2, 9f
-    bx r2
+    tail_call_library 9f
     .balign 4
 9:  .word __addsf3
     .size __aeabi_fadd, . - __aeabi_fadd
@@ -219,11 +225,7 @@ __aeabi_fmul:
     lsls r0, r0, #31
     b .Lfmul_done
 .Lfmul_lib:
-    pop {r0, r1, r4, r5, r6, r7}
-    pop {r2}
-    mov lr, r2
-    ldr r2, 9f
-    bx r2
+    tail_call_library 9f
     .balign 4
 9:  .word __mulsf3
     .size __aeabi_fmul, . - __aeabi_fmul
@@ -318,11 +320,7 @@ __aeabi_fdiv:
     lsls r0, r0, #31
     b .Lfdiv_done
 .Lfdiv_lib:
-    pop {r0, r1, r4, r5, r6, r7}
-    pop {r2}
-    mov lr, r2
-    ldr r2, 9f
-    bx r2
+    tail_call_library 9f
     .balign 4
 .Lfdiv_tab:
     .word .Lfdiv_recip - 256    @ indexed by (B >> 16) in [128, 256), two bytes an entry
