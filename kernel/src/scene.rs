@@ -6,7 +6,7 @@
 
 use heapless::Vec;
 
-use crate::accel::{CameraRays, Filter, Packets, PointRays, RaysFrom, Target};
+use crate::accel::{self, CameraRays, Filter, Packets, PointRays, RaysFrom, Target};
 #[cfg(feature = "fixed")]
 use crate::arith::Arith;
 use crate::camera::{Camera, CameraDesc, Film};
@@ -276,6 +276,12 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// The nearest hit in `(t_min, t_max)`, ignoring object `skip`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, skip: Option<ShapeId>) -> Option<Hit> {
+        // Hosted targets keep no origin terms (their packets need none): any ray goes straight
+        // to the query, without comparing its origin with the camera's (a comparison that also
+        // stalled on x86, reading the just-stored origin back in one wider load).
+        if accel::ENABLED {
+            return self.intersect_from(&RaysFrom::<S, false>::new(ray.origin), ray.dir, t_min, t_max, skip);
+        }
         // A camera ray (the camera's origin, bit for bit) takes the terms the scene keeps.
         if self.camera_rays.start_at(ray.origin) {
             return self.intersect_from(&self.camera_rays, ray.dir, t_min, t_max, skip);
