@@ -16,6 +16,11 @@
 @ `other` for zero, subnormals, infinities and NaNs (exponent 0 or 255: rd - 1 wraps or is 254).
     .macro exponent_m1 rd, rs, other
     lsls \rd, \rs, #1
+    exponent_m1_of_shifted \rd, \other
+    .endm
+
+@ The same with rd = |x| << 1 already.
+    .macro exponent_m1_of_shifted rd, other
     lsrs \rd, \rd, #24
     subs \rd, \rd, #1
     cmp \rd, #253
@@ -70,11 +75,13 @@ __aeabi_fsub:
     .type __aeabi_fadd, %function
     .thumb_func
 __aeabi_fadd:
+    lsls r2, r0, #1             @ X = |a| << 1
+    beq .Lfadd_azero
+    lsls r3, r1, #1             @ Y = |b| << 1
+    beq .Lfadd_bzero
     push {r0, r1, r4, r5, r6, r7, lr}
     movs r6, r0
     eors r6, r6, r1             @ bit 31: the signs differ (magnitudes subtract)
-    lsls r2, r0, #1             @ X = |a| << 1
-    lsls r3, r1, #1             @ Y = |b| << 1
     cmp r2, r3
     bhs 1f
     movs r0, r1                 @ r0: the operand of larger magnitude, which gives the sign
@@ -85,7 +92,7 @@ __aeabi_fadd:
     cmp r4, #255
     beq .Lfadd_lib              @ infinity or NaN
     lsrs r5, r3, #24            @ ey
-    beq .Lfadd_ysmall           @ the smaller is zero or subnormal
+    beq .Lfadd_lib              @ the smaller is subnormal (zeros were handled before)
     subs r5, r4, r5             @ d = ex - ey >= 0
     movs r7, #1
     lsls r7, r7, #30
@@ -137,15 +144,26 @@ __aeabi_fadd:
 .Lfadd_zero:
     movs r0, #0                 @ x - x = +0
     b .Lfadd_done
-.Lfadd_ysmall:
-    cmp r3, #0
-    bne .Lfadd_lib              @ subnormal
-    cmp r2, #0
-    bne .Lfadd_done             @ x + 0 = x (x finite and nonzero: r0)
-    ldr r0, [sp]
-    ldr r1, [sp, #4]
-    ands r0, r0, r1             @ 0 + 0: -0 only when both are -0
-    b .Lfadd_done
+.Lfadd_bzero:
+    movs r3, #255
+    lsls r3, r3, #24            @ 0xff000000: |x| << 1 of infinity
+    cmp r2, r3
+    bhi .Lfadd_lib0             @ NaN + 0: the library (it quiets the NaN)
+    bx lr                       @ a + 0 = a (a nonzero: subnormal, normal or infinite)
+.Lfadd_azero:
+    lsls r3, r1, #1
+    beq 1f
+    movs r2, #255
+    lsls r2, r2, #24
+    cmp r3, r2
+    bhi .Lfadd_lib0             @ 0 + NaN
+    movs r0, r1                 @ 0 + b = b (b nonzero)
+    bx lr
+1:  ands r0, r0, r1             @ 0 + 0: -0 only when both are -0
+    bx lr
+.Lfadd_lib0:
+    ldr r2, 9f                  @ no frame yet: r0, r1 and lr are the caller's
+    bx r2
 .Lfadd_lib:
     tail_call_library 9f
     .balign 4
@@ -161,9 +179,13 @@ __aeabi_fadd:
     .type __aeabi_fmul, %function
     .thumb_func
 __aeabi_fmul:
+    lsls r2, r0, #1
+    beq .Lfmul_azero
+    lsls r3, r1, #1
+    beq .Lfmul_bzero
     push {r0, r1, r4, r5, r6, r7, lr}
-    exponent_m1 r2, r0, .Lfmul_special  @ ea - 1
-    exponent_m1 r3, r1, .Lfmul_special  @ eb - 1
+    exponent_m1_of_shifted r2, .Lfmul_lib   @ ea - 1 (a subnormal, infinite or NaN: the library)
+    exponent_m1_of_shifted r3, .Lfmul_lib   @ eb - 1
     adds r4, r2, r3
     subs r4, r4, #125           @ e = ea + eb - 127, for a product of significands in [1, 2)
     @ 1.fa = ah * 2^16 + al, 1.fb = bh * 2^16 + bl (ah, bh: 8 bits; al, bl: 16 bits)
@@ -205,25 +227,21 @@ __aeabi_fmul:
 .Lfmul_done:
     add sp, #8
     pop {r4, r5, r6, r7, pc}
-.Lfmul_special:
-    @ a or b is zero, subnormal, infinite or NaN (r0, r1 unchanged). 0 * finite = signed 0.
-    lsls r2, r0, #1
-    lsls r3, r1, #1
-    movs r4, #255
-    lsls r4, r4, #24            @ 0xff000000: |x| << 1 of infinity
-    cmp r2, #0
-    bne 3f
-    cmp r3, r4
-    bhs .Lfmul_lib              @ 0 * inf, 0 * NaN
-    b 4f
-3:  cmp r3, #0
-    bne .Lfmul_lib
-    cmp r2, r4
-    bhs .Lfmul_lib              @ inf * 0, NaN * 0
-4:  eors r0, r0, r1
+.Lfmul_azero:
+    lsls r2, r1, #1             @ a = 0: r2 = |b| << 1 (b may be zero too)
+.Lfmul_bzero:
+    @ one operand is a zero, r2 = |the other| << 1, nonzero or zero. 0 * finite = signed 0.
+    movs r3, #255
+    lsls r3, r3, #24            @ 0xff000000: |x| << 1 of infinity
+    cmp r2, r3
+    bhs .Lfmul_lib0             @ 0 * inf, 0 * NaN: the library (NaN)
+    eors r0, r0, r1
     lsrs r0, r0, #31
     lsls r0, r0, #31
-    b .Lfmul_done
+    bx lr
+.Lfmul_lib0:
+    ldr r2, 9f                  @ no frame yet: r0, r1 and lr are the caller's
+    bx r2
 .Lfmul_lib:
     tail_call_library 9f
     .balign 4

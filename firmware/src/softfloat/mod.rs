@@ -12,8 +12,9 @@
 //! - everything else (zero, subnormal, infinite or NaN operands, subnormal or overflowing
 //!   results) tail-calls compiler-builtins' own `__addsf3` / `__mulsf3` with the original
 //!   operands, so the rare cases keep the library's exact behaviour;
-//! - `x + 0`, `0 + 0` and `0 * finite` stay on the fast path (vectors with zero components are
-//!   common).
+//! - `x + 0`, `0 + 0` and `0 * finite` are tested first and return without a stack frame
+//!   (vectors with zero components are common: about a third of a render's adds and a quarter of
+//!   its multiplies have a zero operand).
 //!
 //! The routines are checked against the host and against compiler-builtins on a large set of
 //! operand pairs by the `softfloat-check` firmware feature (see `fpcheck.rs` and
