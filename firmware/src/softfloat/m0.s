@@ -103,20 +103,8 @@ __aeabi_fadd:
     lsrs r3, r3, #2
     orrs r3, r3, r7             @ my
     cmp r5, #8
-    bhs 6f
+    bhs .Lfadd_far
     lsrs r3, r3, r5             @ d < 8: my's low 7 bits are zero, nothing is shifted out
-    b 3f
-6:  cmp r5, #31
-    bls 2f
-    movs r5, #31                @ my >> 31 = 0: only the sticky bit is left
-2:  movs r1, r3
-    lsrs r3, r3, r5             @ my >> d
-    movs r7, r3
-    lsls r7, r7, r5
-    cmp r7, r1
-    beq 3f
-    movs r7, #1
-    orrs r3, r3, r7             @ bits shifted out: sticky bit at bit 0
 3:  cmp r6, #0
     blt .Lfadd_sub
     adds r2, r2, r3             @ < 2^32
@@ -144,6 +132,19 @@ __aeabi_fadd:
 .Lfadd_zero:
     movs r0, #0                 @ x - x = +0
     b .Lfadd_done
+.Lfadd_far:
+    cmp r5, #31
+    bls 2f
+    movs r5, #31                @ my >> 31 = 0: only the sticky bit is left
+2:  movs r1, r3
+    lsrs r3, r3, r5             @ my >> d
+    movs r7, r3
+    lsls r7, r7, r5
+    cmp r7, r1
+    beq 3b
+    movs r7, #1
+    orrs r3, r3, r7             @ bits shifted out: sticky bit at bit 0
+    b 3b
 .Lfadd_bzero:
     movs r3, #255
     lsls r3, r3, #24            @ 0xff000000: |x| << 1 of infinity
@@ -192,29 +193,24 @@ __aeabi_fmul:
     lsls r2, r0, #9
     lsrs r2, r2, #25
     adds r2, r2, #128           @ ah
-    lsls r5, r0, #16
-    lsrs r5, r5, #16            @ al
+    uxth r5, r0                 @ al
     lsls r6, r1, #9
     lsrs r6, r6, #25
     adds r6, r6, #128           @ bh
-    lsls r7, r1, #16
-    lsrs r7, r7, #16            @ bl
+    uxth r7, r1                 @ bl
     eors r0, r0, r1             @ sign of the result in bit 31
     movs r1, r2
     muls r1, r7, r1             @ ah * bl
     muls r7, r5, r7             @ al * bl
     muls r5, r6, r5             @ al * bh
     muls r6, r2, r6             @ ah * bh
-    adds r1, r1, r5             @ cross terms, < 2^25
-    lsls r5, r1, #16
-    lsrs r1, r1, #16
+    @ floor(P / 2^16) = ah bh 2^16 + ah bl + al bh + floor(al bl / 2^16) < 2^32 (P < 2^48): no
+    @ partial sum overflows; the low 16 bits of al bl are the sticky bits.
+    lsls r6, r6, #16
     adds r6, r6, r1
-    movs r3, #0
-    adds r7, r7, r5             @ low word of the 48-bit product
-    adcs r6, r6, r3             @ high word, < 2^16
-    lsls r2, r6, #16
-    lsrs r3, r7, #16
-    orrs r2, r2, r3             @ product >> 16: leading one at bit 31 or 30
+    adds r6, r6, r5
+    lsrs r2, r7, #16
+    adds r2, r2, r6             @ product >> 16: leading one at bit 31 or 30
     bmi 1f
     lsls r2, r2, #1
     b 2f
