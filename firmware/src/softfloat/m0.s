@@ -392,10 +392,33 @@ __aeabi_fdiv:
     beq \zero
     .endm
 
+@ Both operands with the sign bit clear (+0 up to +inf and positive NaNs, the common case),
+@ x < y (\strict) or x <= y: the bit patterns order them as unsigned integers, and when x <= y
+@ is true a NaN among them must be y. Branches to \slow when a sign bit is set, to \no when
+@ the relation is false; falls through when it holds.
+    .macro fpositive x, y, strict, slow, no
+    movs r2, r0
+    orrs r2, r2, r1
+    bmi \slow
+    cmp \x, \y
+    .ifnb \strict
+    bhs \no
+    .else
+    bhi \no
+    .endif
+    movs r2, #255
+    lsls r2, r2, #23            @ 0x7f800000, +inf
+    cmp \y, r2
+    bhi \no                     @ y (and maybe x) is a NaN
+    .endm
+
 @ a < b (\swap: b < a, for gt)
-    .macro flt name, a, b
+    .macro flt name, a, b, x, y
     fbegin \name
-    fkeys
+    fpositive \x, \y, strict, 5f, 0f
+    movs r0, #1
+    bx lr
+5:  fkeys
     cmp \a, \b
     blt 1f
 0:  movs r0, #0
@@ -408,9 +431,12 @@ __aeabi_fdiv:
     .endm
 
 @ a <= b (\swap: b <= a, for ge)
-    .macro fle name, a, b
+    .macro fle name, a, b, x, y
     fbegin \name
-    fkeys
+    fpositive \x, \y, , 5f, 0f
+    movs r0, #1
+    bx lr
+5:  fkeys
     cmp \a, \b
     ble 1f
     fzeros 2f                   @ k says >, but +0 <= -0
@@ -422,10 +448,10 @@ __aeabi_fdiv:
     .size \name, . - \name
     .endm
 
-    flt __aeabi_fcmplt, r2, r3
-    flt __aeabi_fcmpgt, r3, r2
-    fle __aeabi_fcmple, r2, r3
-    fle __aeabi_fcmpge, r3, r2
+    flt __aeabi_fcmplt, r2, r3, r0, r1
+    flt __aeabi_fcmpgt, r3, r2, r1, r0
+    fle __aeabi_fcmple, r2, r3, r0, r1
+    fle __aeabi_fcmpge, r3, r2, r1, r0
 
 @ a == b: the same bits and not a NaN, or two zeros.
     fbegin __aeabi_fcmpeq
