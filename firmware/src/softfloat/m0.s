@@ -497,3 +497,45 @@ __aeabi_fdiv:
     adds r1, r4, r3
     pop {r4, r5, r6, pc}
     .size __aeabi_lmul, . - __aeabi_lmul
+
+@ ---------------------------------------------------------------------------------------------
+@ float __aeabi_ui2f(unsigned a): rounded to nearest, ties to even. The leading one is moved to
+@ bit 31 in steps of 16, 8, 4, 2 and 1 (no CLZ on ARMv6-M), then packed like the other routines.
+    fbegin __aeabi_ui2f
+    cmp r0, #0
+    beq 9f                      @ 0 -> +0
+    movs r1, #157               @ e - 1 for a leading one at bit 31 (e = 127 + 31)
+    lsrs r2, r0, #16
+    bne 1f
+    lsls r0, r0, #16
+    subs r1, r1, #16
+1:  lsrs r2, r0, #24
+    bne 2f
+    lsls r0, r0, #8
+    subs r1, r1, #8
+2:  lsrs r2, r0, #28
+    bne 3f
+    lsls r0, r0, #4
+    subs r1, r1, #4
+3:  lsrs r2, r0, #30
+    bne 4f
+    lsls r0, r0, #2
+    subs r1, r1, #2
+4:  cmp r0, #0
+    blt 5f
+    lsls r0, r0, #1
+    subs r1, r1, #1
+5:  lsrs r3, r0, #8             @ 1.f, 24 bits
+    lsls r1, r1, #23
+    adds r3, r3, r1             @ exponent | fraction, truncated
+    lsls r2, r0, #25            @ C = round bit, r2 = the bits below it
+    bcc 7f
+    bne 6f
+    adds r3, r3, #1             @ exactly half: round to even
+    lsrs r3, r3, #1
+    lsls r3, r3, #1
+    b 7f
+6:  adds r3, r3, #1
+7:  movs r0, r3
+9:  bx lr
+    .size __aeabi_ui2f, . - __aeabi_ui2f

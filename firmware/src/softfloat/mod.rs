@@ -1,8 +1,8 @@
 //! Hand-written single-precision soft-float routines for Arm cores without an FPU (Cortex-M0,
 //! ARMv6-M Thumb-1; the code also runs on ARMv7-M), linked over compiler-builtins' weak
 //! `__aeabi_*` symbols: `__aeabi_fadd`, `__aeabi_fsub`, `__aeabi_fmul`, the comparisons
-//! `__aeabi_fcmp{eq,lt,le,gt,ge}` and the 64-bit integer multiply `__aeabi_lmul` (used by the
-//! random number generator).
+//! `__aeabi_fcmp{eq,lt,le,gt,ge}`, the conversion `__aeabi_ui2f` and the 64-bit integer multiply
+//! `__aeabi_lmul` (used by the random number generator).
 //!
 //! Results are IEEE-754 binary32 with round to nearest, ties to even, bit for bit what the host's
 //! f32 gives (and what compiler-builtins gives, NaN payloads included):
