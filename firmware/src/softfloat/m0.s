@@ -10,8 +10,8 @@
 @ Packs and rounds a result, then falls through to the caller's epilogue \done.
 @ In: r0 bit 31 = sign, r2 = significand with its leading one at bit 31 (24 bits kept, bits
 @ 7..0 below the last kept bit), r5 = e - 1 with e the result's biased exponent, checked by the
-@ caller to be in 1..=254, \extra (optional) = more sticky bits, nonzero when anything below
-@ r2 is nonzero.
+@ caller to be in 1..=254, \extra (optional) = more sticky bits in its low 16 bits, nonzero
+@ when anything below r2 is nonzero (clobbered).
 @ rd = (biased exponent of the float in rs) - 1, in 0..=253 for a normal float; branches to
 @ `other` for zero, subnormals, infinities and NaNs (exponent 0 or 255: rd - 1 wraps or is 254).
     .macro exponent_m1 rd, rs, other
@@ -47,6 +47,7 @@
     lsls r1, r2, #25            @ C = round bit, r1 = the bits below it
     bcc \done                   @ below half an ulp: truncated is right
     .ifnb \extra
+    lsls \extra, \extra, #16
     orrs r1, r1, \extra
     .endif
     bne 8f                      @ above half an ulp: round up
@@ -188,7 +189,7 @@ __aeabi_fmul:
     exponent_m1_of_shifted r2, .Lfmul_lib   @ ea - 1 (a subnormal, infinite or NaN: the library)
     exponent_m1_of_shifted r3, .Lfmul_lib   @ eb - 1
     adds r4, r2, r3
-    subs r4, r4, #125           @ e = ea + eb - 127, for a product of significands in [1, 2)
+    subs r4, r4, #124           @ e = ea + eb - 126, for a product of significands in [2, 4)
     @ 1.fa = ah * 2^16 + al, 1.fb = bh * 2^16 + bl (ah, bh: 8 bits; al, bl: 16 bits)
     lsls r2, r0, #9
     lsrs r2, r2, #25
@@ -212,11 +213,9 @@ __aeabi_fmul:
     lsrs r2, r7, #16
     adds r2, r2, r6             @ product >> 16: leading one at bit 31 or 30
     bmi 1f
-    lsls r2, r2, #1
-    b 2f
-1:  adds r4, r4, #1             @ product in [2, 4)
-2:  lsls r7, r7, #16            @ sticky: the product's low 16 bits
-    subs r5, r4, #1
+    lsls r2, r2, #1             @ product in [1, 2): one binade lower
+    subs r4, r4, #1
+1:  subs r5, r4, #1             @ (the sticky bits: the low 16 bits of r7)
     cmp r5, #253
     bhi .Lfmul_lib              @ subnormal or overflowing result
     pack_round .Lfmul_done, r7
