@@ -84,12 +84,8 @@ __aeabi_fadd:
     movs r6, r0
     eors r6, r6, r1             @ bit 31: the signs differ (magnitudes subtract)
     cmp r2, r3
-    bhs 1f
-    movs r0, r1                 @ r0: the operand of larger magnitude, which gives the sign
-    mov r12, r2
-    movs r2, r3
-    mov r3, r12
-1:  lsrs r4, r2, #24            @ ex, exponent of the larger
+    blo .Lfadd_swapped
+    lsrs r4, r2, #24            @ ex, exponent of the larger
     cmp r4, #255
     beq .Lfadd_lib              @ infinity or NaN
     lsrs r5, r3, #24            @ ey
@@ -103,6 +99,7 @@ __aeabi_fadd:
     lsls r3, r3, #8
     lsrs r3, r3, #2
     orrs r3, r3, r7             @ my
+.Lfadd_aligned:
     cmp r5, #8
     bhs .Lfadd_far
     lsrs r3, r3, r5             @ d < 8: my's low 7 bits are zero, nothing is shifted out
@@ -133,6 +130,24 @@ __aeabi_fadd:
 .Lfadd_zero:
     movs r0, #0                 @ x - x = +0
     b .Lfadd_done
+.Lfadd_swapped:
+    @ |b| > |a|: the same unpacking with the roles exchanged (r1, saved on the stack, is free).
+    movs r0, r1                 @ r0: the operand of larger magnitude, which gives the sign
+    lsrs r4, r3, #24            @ ex
+    cmp r4, #255
+    beq .Lfadd_lib
+    lsrs r5, r2, #24            @ ey
+    beq .Lfadd_lib
+    subs r5, r4, r5
+    movs r7, #1
+    lsls r7, r7, #30
+    lsls r1, r3, #8
+    lsls r3, r2, #8
+    lsrs r2, r1, #2
+    lsrs r3, r3, #2
+    orrs r2, r2, r7             @ mx
+    orrs r3, r3, r7             @ my
+    b .Lfadd_aligned
 .Lfadd_far:
     cmp r5, #31
     bls 2f
