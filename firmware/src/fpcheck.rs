@@ -12,7 +12,9 @@
 //! patterns for `inf - inf`). The host computes the same digests with its own f32
 //! (`picomis-firmware softfloat-digest`) and `scripts/firmware.sh test` compares the two lines.
 //! On the target the check also compares every result, NaN bits included, with
-//! compiler-builtins' own routines and counts the mismatches.
+//! compiler-builtins' own routines and counts the mismatches, and also checks the u32 -> f32
+//! conversion (`__aeabi_ui2f`) against compiler-builtins' `__floatunsisf` on
+//! 2^20 values (every leading-one position, exact ties of both parities).
 
 /// Operand pairs checked.
 pub const PAIRS: u32 = 1 << 17;
@@ -113,6 +115,34 @@ pub fn operands(i: u32) -> (u32, u32) {
         _ => {
             let n = SPECIALS.len() as u32;
             (SPECIALS[(r1 % n) as usize], SPECIALS[(r2 % n) as usize])
+        }
+    }
+}
+
+/// u32 -> f32 conversions checked (`__aeabi_ui2f`, target only: against compiler-builtins).
+#[cfg(target_os = "none")]
+pub const CONVERSIONS: u32 = 1 << 20;
+
+/// Conversion operand number `i`: every value below 2^16, then random values shifted right by
+/// 0..=31 bits (every leading-one position), then exact ties and their neighbours: a 24-bit
+/// significand of either parity shifted left by 1..=8 with the bits below it 10..0 +- 1 (and so
+/// up to 0xffff_ffff, which rounds up to 2^32).
+#[cfg(target_os = "none")]
+pub fn conversion_operand(i: u32) -> u32 {
+    let r = mix(i ^ 0x5bd1_e995);
+    match i >> 16 {
+        0 => i,
+        1..=7 => r >> (i % 32),
+        _ => {
+            let s = 1 + (i >> 2) % 8;
+            let m = (r >> 8) | 1 << 23;
+            let tie = (m << s) | 1 << (s - 1);
+            match i % 4 {
+                0 => tie,
+                1 => tie.wrapping_sub(1),
+                2 => tie.wrapping_add(1),
+                _ => u32::MAX - (r % 256),
+            }
         }
     }
 }
@@ -324,6 +354,7 @@ pub fn run() -> u32 {
         fn __gesf2(a: f32, b: f32) -> i32;
         fn __muldi3(a: u64, b: u64) -> u64;
         fn __divsf3(a: f32, b: f32) -> f32;
+        fn __floatunsisf(a: u32) -> f32;
     }
     let mut mismatches = 0u32;
     let d = digests(|i, a, b, q| {
@@ -379,6 +410,26 @@ pub fn run() -> u32 {
             }
         }
     }
-    info!("softfloat library comparison: {} mismatches in {} results", mismatches, 5 * PAIRS + DIV_PAIRS);
+    for i in 0..CONVERSIONS {
+        let u = core::hint::black_box(conversion_operand(i));
+        // SAFETY: compiler-builtins' conversion takes and returns plain values.
+        let (ours, lib) = (u as f32, unsafe { __floatunsisf(u) });
+        if ours.to_bits() != lib.to_bits() {
+            if mismatches < 8 {
+                info!(
+                    "softfloat mismatch: u32 -> f32 {}: ours {} library {}",
+                    u,
+                    ours.to_bits(),
+                    lib.to_bits()
+                );
+            }
+            mismatches += 1;
+        }
+    }
+    info!(
+        "softfloat library comparison: {} mismatches in {} results",
+        mismatches,
+        5 * PAIRS + DIV_PAIRS + CONVERSIONS
+    );
     if mismatches == 0 { 0 } else { 6 }
 }

@@ -10,12 +10,17 @@
 @ Packs and rounds a result, then falls through to the caller's epilogue \done.
 @ In: r0 bit 31 = sign, r2 = significand with its leading one at bit 31 (24 bits kept, bits
 @ 7..0 below the last kept bit), r5 = e - 1 with e the result's biased exponent, checked by the
-@ caller to be in 1..=254, \extra (optional) = more sticky bits, nonzero when anything below
-@ r2 is nonzero.
+@ caller to be in 1..=254, \extra (optional) = more sticky bits in its low 16 bits, nonzero
+@ when anything below r2 is nonzero (clobbered).
 @ rd = (biased exponent of the float in rs) - 1, in 0..=253 for a normal float; branches to
 @ `other` for zero, subnormals, infinities and NaNs (exponent 0 or 255: rd - 1 wraps or is 254).
     .macro exponent_m1 rd, rs, other
     lsls \rd, \rs, #1
+    exponent_m1_of_shifted \rd, \other
+    .endm
+
+@ The same with rd = |x| << 1 already.
+    .macro exponent_m1_of_shifted rd, other
     lsrs \rd, \rd, #24
     subs \rd, \rd, #1
     cmp \rd, #253
@@ -42,6 +47,7 @@
     lsls r1, r2, #25            @ C = round bit, r1 = the bits below it
     bcc \done                   @ below half an ulp: truncated is right
     .ifnb \extra
+    lsls \extra, \extra, #16
     orrs r1, r1, \extra
     .endif
     bne 8f                      @ above half an ulp: round up
@@ -70,22 +76,20 @@ __aeabi_fsub:
     .type __aeabi_fadd, %function
     .thumb_func
 __aeabi_fadd:
+    lsls r2, r0, #1             @ X = |a| << 1
+    beq .Lfadd_azero
+    lsls r3, r1, #1             @ Y = |b| << 1
+    beq .Lfadd_bzero
     push {r0, r1, r4, r5, r6, r7, lr}
     movs r6, r0
     eors r6, r6, r1             @ bit 31: the signs differ (magnitudes subtract)
-    lsls r2, r0, #1             @ X = |a| << 1
-    lsls r3, r1, #1             @ Y = |b| << 1
     cmp r2, r3
-    bhs 1f
-    movs r0, r1                 @ r0: the operand of larger magnitude, which gives the sign
-    mov r12, r2
-    movs r2, r3
-    mov r3, r12
-1:  lsrs r4, r2, #24            @ ex, exponent of the larger
+    blo .Lfadd_swapped
+    lsrs r4, r2, #24            @ ex, exponent of the larger
     cmp r4, #255
     beq .Lfadd_lib              @ infinity or NaN
     lsrs r5, r3, #24            @ ey
-    beq .Lfadd_ysmall           @ the smaller is zero or subnormal
+    beq .Lfadd_lib              @ the smaller is subnormal (zeros were handled before)
     subs r5, r4, r5             @ d = ex - ey >= 0
     movs r7, #1
     lsls r7, r7, #30
@@ -95,21 +99,10 @@ __aeabi_fadd:
     lsls r3, r3, #8
     lsrs r3, r3, #2
     orrs r3, r3, r7             @ my
+.Lfadd_aligned:
     cmp r5, #8
-    bhs 6f
+    bhs .Lfadd_far
     lsrs r3, r3, r5             @ d < 8: my's low 7 bits are zero, nothing is shifted out
-    b 3f
-6:  cmp r5, #31
-    bls 2f
-    movs r5, #31                @ my >> 31 = 0: only the sticky bit is left
-2:  movs r1, r3
-    lsrs r3, r3, r5             @ my >> d
-    movs r7, r3
-    lsls r7, r7, r5
-    cmp r7, r1
-    beq 3f
-    movs r7, #1
-    orrs r3, r3, r7             @ bits shifted out: sticky bit at bit 0
 3:  cmp r6, #0
     blt .Lfadd_sub
     adds r2, r2, r3             @ < 2^32
@@ -137,15 +130,57 @@ __aeabi_fadd:
 .Lfadd_zero:
     movs r0, #0                 @ x - x = +0
     b .Lfadd_done
-.Lfadd_ysmall:
-    cmp r3, #0
-    bne .Lfadd_lib              @ subnormal
-    cmp r2, #0
-    bne .Lfadd_done             @ x + 0 = x (x finite and nonzero: r0)
-    ldr r0, [sp]
-    ldr r1, [sp, #4]
-    ands r0, r0, r1             @ 0 + 0: -0 only when both are -0
-    b .Lfadd_done
+.Lfadd_swapped:
+    @ |b| > |a|: the same unpacking with the roles exchanged (r1, saved on the stack, is free).
+    movs r0, r1                 @ r0: the operand of larger magnitude, which gives the sign
+    lsrs r4, r3, #24            @ ex
+    cmp r4, #255
+    beq .Lfadd_lib
+    lsrs r5, r2, #24            @ ey
+    beq .Lfadd_lib
+    subs r5, r4, r5
+    movs r7, #1
+    lsls r7, r7, #30
+    lsls r1, r3, #8
+    lsls r3, r2, #8
+    lsrs r2, r1, #2
+    lsrs r3, r3, #2
+    orrs r2, r2, r7             @ mx
+    orrs r3, r3, r7             @ my
+    b .Lfadd_aligned
+.Lfadd_far:
+    cmp r5, #31
+    bls 2f
+    movs r5, #31                @ my >> 31 = 0: only the sticky bit is left
+2:  movs r1, r3
+    lsrs r3, r3, r5             @ my >> d
+    movs r7, r3
+    lsls r7, r7, r5
+    cmp r7, r1
+    beq 3b
+    movs r7, #1
+    orrs r3, r3, r7             @ bits shifted out: sticky bit at bit 0
+    b 3b
+.Lfadd_bzero:
+    movs r3, #255
+    lsls r3, r3, #24            @ 0xff000000: |x| << 1 of infinity
+    cmp r2, r3
+    bhi .Lfadd_lib0             @ NaN + 0: the library (it quiets the NaN)
+    bx lr                       @ a + 0 = a (a nonzero: subnormal, normal or infinite)
+.Lfadd_azero:
+    lsls r3, r1, #1
+    beq 1f
+    movs r2, #255
+    lsls r2, r2, #24
+    cmp r3, r2
+    bhi .Lfadd_lib0             @ 0 + NaN
+    movs r0, r1                 @ 0 + b = b (b nonzero)
+    bx lr
+1:  ands r0, r0, r1             @ 0 + 0: -0 only when both are -0
+    bx lr
+.Lfadd_lib0:
+    ldr r2, 9f                  @ no frame yet: r0, r1 and lr are the caller's
+    bx r2
 .Lfadd_lib:
     tail_call_library 9f
     .balign 4
@@ -161,69 +196,62 @@ __aeabi_fadd:
     .type __aeabi_fmul, %function
     .thumb_func
 __aeabi_fmul:
+    lsls r2, r0, #1
+    beq .Lfmul_azero
+    lsls r3, r1, #1
+    beq .Lfmul_bzero
     push {r0, r1, r4, r5, r6, r7, lr}
-    exponent_m1 r2, r0, .Lfmul_special  @ ea - 1
-    exponent_m1 r3, r1, .Lfmul_special  @ eb - 1
+    exponent_m1_of_shifted r2, .Lfmul_lib   @ ea - 1 (a subnormal, infinite or NaN: the library)
+    exponent_m1_of_shifted r3, .Lfmul_lib   @ eb - 1
     adds r4, r2, r3
-    subs r4, r4, #125           @ e = ea + eb - 127, for a product of significands in [1, 2)
+    subs r4, r4, #124           @ e = ea + eb - 126, for a product of significands in [2, 4)
     @ 1.fa = ah * 2^16 + al, 1.fb = bh * 2^16 + bl (ah, bh: 8 bits; al, bl: 16 bits)
     lsls r2, r0, #9
     lsrs r2, r2, #25
     adds r2, r2, #128           @ ah
-    lsls r5, r0, #16
-    lsrs r5, r5, #16            @ al
+    uxth r5, r0                 @ al
     lsls r6, r1, #9
     lsrs r6, r6, #25
     adds r6, r6, #128           @ bh
-    lsls r7, r1, #16
-    lsrs r7, r7, #16            @ bl
+    uxth r7, r1                 @ bl
     eors r0, r0, r1             @ sign of the result in bit 31
     movs r1, r2
     muls r1, r7, r1             @ ah * bl
     muls r7, r5, r7             @ al * bl
     muls r5, r6, r5             @ al * bh
     muls r6, r2, r6             @ ah * bh
-    adds r1, r1, r5             @ cross terms, < 2^25
-    lsls r5, r1, #16
-    lsrs r1, r1, #16
+    @ floor(P / 2^16) = ah bh 2^16 + ah bl + al bh + floor(al bl / 2^16) < 2^32 (P < 2^48): no
+    @ partial sum overflows; the low 16 bits of al bl are the sticky bits.
+    lsls r6, r6, #16
     adds r6, r6, r1
-    movs r3, #0
-    adds r7, r7, r5             @ low word of the 48-bit product
-    adcs r6, r6, r3             @ high word, < 2^16
-    lsls r2, r6, #16
-    lsrs r3, r7, #16
-    orrs r2, r2, r3             @ product >> 16: leading one at bit 31 or 30
+    adds r6, r6, r5
+    lsrs r2, r7, #16
+    adds r2, r2, r6             @ product >> 16: leading one at bit 31 or 30
     bmi 1f
-    lsls r2, r2, #1
-    b 2f
-1:  adds r4, r4, #1             @ product in [2, 4)
-2:  lsls r7, r7, #16            @ sticky: the product's low 16 bits
-    subs r5, r4, #1
+    lsls r2, r2, #1             @ product in [1, 2): one binade lower
+    subs r4, r4, #1
+1:  subs r5, r4, #1             @ (the sticky bits: the low 16 bits of r7)
     cmp r5, #253
     bhi .Lfmul_lib              @ subnormal or overflowing result
     pack_round .Lfmul_done, r7
 .Lfmul_done:
     add sp, #8
     pop {r4, r5, r6, r7, pc}
-.Lfmul_special:
-    @ a or b is zero, subnormal, infinite or NaN (r0, r1 unchanged). 0 * finite = signed 0.
-    lsls r2, r0, #1
-    lsls r3, r1, #1
-    movs r4, #255
-    lsls r4, r4, #24            @ 0xff000000: |x| << 1 of infinity
-    cmp r2, #0
-    bne 3f
-    cmp r3, r4
-    bhs .Lfmul_lib              @ 0 * inf, 0 * NaN
-    b 4f
-3:  cmp r3, #0
-    bne .Lfmul_lib
-    cmp r2, r4
-    bhs .Lfmul_lib              @ inf * 0, NaN * 0
-4:  eors r0, r0, r1
+.Lfmul_azero:
+    lsls r2, r1, #1             @ a = 0: r2 = |b| << 1 (b may be zero too)
+.Lfmul_bzero:
+    @ one operand is a zero, r2 = |the other| << 1, nonzero or zero. 0 * finite = signed 0.
+    movs r3, #255
+    lsls r3, r3, #24            @ 0xff000000: |x| << 1 of infinity
+    cmp r2, r3
+    bhs .Lfmul_lib0             @ 0 * inf, 0 * NaN: the library (NaN)
+    eors r0, r0, r1
     lsrs r0, r0, #31
     lsls r0, r0, #31
-    b .Lfmul_done
+    bx lr
+.Lfmul_lib0:
+    ldr r2, 9f                  @ no frame yet: r0, r1 and lr are the caller's
+    bx r2
 .Lfmul_lib:
     tail_call_library 9f
     .balign 4
@@ -378,10 +406,33 @@ __aeabi_fdiv:
     beq \zero
     .endm
 
+@ Both operands with the sign bit clear (+0 up to +inf and positive NaNs, the common case),
+@ x < y (\strict) or x <= y: the bit patterns order them as unsigned integers, and when x <= y
+@ is true a NaN among them must be y. Branches to \slow when a sign bit is set, to \no when
+@ the relation is false; falls through when it holds.
+    .macro fpositive x, y, strict, slow, no
+    movs r2, r0
+    orrs r2, r2, r1
+    bmi \slow
+    cmp \x, \y
+    .ifnb \strict
+    bhs \no
+    .else
+    bhi \no
+    .endif
+    movs r2, #255
+    lsls r2, r2, #23            @ 0x7f800000, +inf
+    cmp \y, r2
+    bhi \no                     @ y (and maybe x) is a NaN
+    .endm
+
 @ a < b (\swap: b < a, for gt)
-    .macro flt name, a, b
+    .macro flt name, a, b, x, y
     fbegin \name
-    fkeys
+    fpositive \x, \y, strict, 5f, 0f
+    movs r0, #1
+    bx lr
+5:  fkeys
     cmp \a, \b
     blt 1f
 0:  movs r0, #0
@@ -394,9 +445,12 @@ __aeabi_fdiv:
     .endm
 
 @ a <= b (\swap: b <= a, for ge)
-    .macro fle name, a, b
+    .macro fle name, a, b, x, y
     fbegin \name
-    fkeys
+    fpositive \x, \y, , 5f, 0f
+    movs r0, #1
+    bx lr
+5:  fkeys
     cmp \a, \b
     ble 1f
     fzeros 2f                   @ k says >, but +0 <= -0
@@ -408,10 +462,10 @@ __aeabi_fdiv:
     .size \name, . - \name
     .endm
 
-    flt __aeabi_fcmplt, r2, r3
-    flt __aeabi_fcmpgt, r3, r2
-    fle __aeabi_fcmple, r2, r3
-    fle __aeabi_fcmpge, r3, r2
+    flt __aeabi_fcmplt, r2, r3, r0, r1
+    flt __aeabi_fcmpgt, r3, r2, r1, r0
+    fle __aeabi_fcmple, r2, r3, r0, r1
+    fle __aeabi_fcmpge, r3, r2, r1, r0
 
 @ a == b: the same bits and not a NaN, or two zeros.
     fbegin __aeabi_fcmpeq
@@ -457,3 +511,45 @@ __aeabi_fdiv:
     adds r1, r4, r3
     pop {r4, r5, r6, pc}
     .size __aeabi_lmul, . - __aeabi_lmul
+
+@ ---------------------------------------------------------------------------------------------
+@ float __aeabi_ui2f(unsigned a): rounded to nearest, ties to even. The leading one is moved to
+@ bit 31 in steps of 16, 8, 4, 2 and 1 (no CLZ on ARMv6-M), then packed like the other routines.
+    fbegin __aeabi_ui2f
+    cmp r0, #0
+    beq 9f                      @ 0 -> +0
+    movs r1, #157               @ e - 1 for a leading one at bit 31 (e = 127 + 31)
+    lsrs r2, r0, #16
+    bne 1f
+    lsls r0, r0, #16
+    subs r1, r1, #16
+1:  lsrs r2, r0, #24
+    bne 2f
+    lsls r0, r0, #8
+    subs r1, r1, #8
+2:  lsrs r2, r0, #28
+    bne 3f
+    lsls r0, r0, #4
+    subs r1, r1, #4
+3:  lsrs r2, r0, #30
+    bne 4f
+    lsls r0, r0, #2
+    subs r1, r1, #2
+4:  cmp r0, #0
+    blt 5f
+    lsls r0, r0, #1
+    subs r1, r1, #1
+5:  lsrs r3, r0, #8             @ 1.f, 24 bits
+    lsls r1, r1, #23
+    adds r3, r3, r1             @ exponent | fraction, truncated
+    lsls r2, r0, #25            @ C = round bit, r2 = the bits below it
+    bcc 7f
+    bne 6f
+    adds r3, r3, #1             @ exactly half: round to even
+    lsrs r3, r3, #1
+    lsls r3, r3, #1
+    b 7f
+6:  adds r3, r3, #1
+7:  movs r0, r3
+9:  bx lr
+    .size __aeabi_ui2f, . - __aeabi_ui2f
