@@ -584,25 +584,32 @@ mod plain {
                 Filter::EmittersBut(a) => (EMITTERS, (a, a)),
                 Filter::OthersBut(a) => (OTHERS, (a, a)),
             };
-            match (SOFT_FLOAT, ANY, roles, KEPT) {
-                (false, false, ALL, true) => self.scan::<0, ALL, S, KEPT>(from, skip, roles, ANY, objects),
-                (false, true, ALL, false) => self.scan::<1, ALL, S, KEPT>(from, skip, roles, ANY, objects),
-                (false, false, EMITTERS, false) => {
-                    self.scan::<0, EMITTERS, S, KEPT>(from, skip, roles, ANY, objects)
+            // The camera ray skips nothing: its copy of the loop has no skip test.
+            let none = skip == (usize::MAX, usize::MAX);
+            match (SOFT_FLOAT, ANY, roles, KEPT, none) {
+                (false, false, ALL, true, true) => {
+                    self.scan::<0, ALL, S, KEPT, false>(from, skip, roles, ANY, objects)
                 }
-                (false, true, OTHERS, false) => {
-                    self.scan::<1, OTHERS, S, KEPT>(from, skip, roles, ANY, objects)
+                (false, true, ALL, false, _) => {
+                    self.scan::<1, ALL, S, KEPT, true>(from, skip, roles, ANY, objects)
                 }
-                _ => self.scan::<RUNTIME, RUNTIME, S, KEPT>(from, skip, roles, ANY, objects),
+                (false, false, EMITTERS, false, _) => {
+                    self.scan::<0, EMITTERS, S, KEPT, true>(from, skip, roles, ANY, objects)
+                }
+                (false, true, OTHERS, false, _) => {
+                    self.scan::<1, OTHERS, S, KEPT, true>(from, skip, roles, ANY, objects)
+                }
+                _ => self.scan::<RUNTIME, RUNTIME, S, KEPT, true>(from, skip, roles, ANY, objects),
             }
         }
 
         /// The loop of the queries: front to back, skipping objects `skip` and those whose role
         /// `roles` leaves out, each test bounded by the nearest hit so far; with `any`, the
         /// first hit found. With `KEPT`, through the kept terms. `ANY_` (0, 1) and `ROLES_`
-        /// fix `any` and `roles` in this copy of the loop, unless they are [`RUNTIME`].
+        /// fix `any` and `roles` in this copy of the loop, unless they are [`RUNTIME`]; without
+        /// `SKIPS`, `skip` must be none (`usize::MAX` twice), and the loop does not test it.
         #[inline(never)]
-        fn scan<const ANY_: u8, const ROLES_: u8, const S: usize, const KEPT: bool>(
+        fn scan<const ANY_: u8, const ROLES_: u8, const S: usize, const KEPT: bool, const SKIPS: bool>(
             &self,
             from: &RaysFrom<S, KEPT>,
             skip: (usize, usize),
@@ -613,7 +620,8 @@ mod plain {
             let roles = if ROLES_ == RUNTIME { roles } else { ROLES_ };
             let any = if ANY_ == RUNTIME { any } else { ANY_ == 1 };
             let admits = |i: usize, o: &_| {
-                i != skip.0 && i != skip.1 && (roles == ALL || (roles == EMITTERS) == Target::emits(o))
+                (!SKIPS || (i != skip.0 && i != skip.1))
+                    && (roles == ALL || (roles == EMITTERS) == Target::emits(o))
             };
             let (ray, t_min) = (&self.ray, self.t_min);
             let (mut t_far, mut best) = (self.t_max, None);
