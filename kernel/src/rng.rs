@@ -131,9 +131,10 @@ fn sobol_pair_reversed(d: u32, index: u32) -> (u32, u32) {
     (x, y)
 }
 
-/// [`sobol_pair_reversed`] on 64-bit hosts: the same xor of generator columns, four index bits
-/// at a time from [`SOBOL_PAIRS_BY_NIBBLE`], both coordinates in one 64-bit word (x low, y
-/// high). The same bits; a handful of table reads instead of a pass over every index bit.
+/// Sobol dimensions (2d, 2d + 1) of `index` for a joint pair `d` in 1..=2, bit-reversed, on
+/// 64-bit hosts: the same xor of generator columns as the 32-bit targets' bit-by-bit pass (whose
+/// images the firmware tests compare with the host's), four index bits at a time from
+/// [`SOBOL_PAIRS_BY_NIBBLE`], both coordinates in one 64-bit word (x low, y high).
 #[cfg(target_pointer_width = "64")]
 #[inline]
 fn sobol_pair_reversed(d: u32, index: u32) -> (u32, u32) {
