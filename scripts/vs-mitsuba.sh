@@ -5,9 +5,8 @@
 # (independent, stratified, multijitter, ldsampler at 64 spp; orthogonal at 121), interleaved,
 # 3 rounds. Each scene is `picomis-sim export`'s Mitsuba XML, checked to converge to picomis'
 # image; its reference is Mitsuba's converged image (cached under target/vs-mitsuba/renders), for
-# Veach the committed
-# ~37,000-spp one. Prints the tables and writes docs/vs-mitsuba.md (one table per scene and a
-# summary). A benchmark, not a test: run it on a quiet machine (the tables record the load average).
+# Veach the committed ~37,000-spp one. Prints the tables and writes docs/vs-mitsuba.md (one table
+# per scene and a summary). A benchmark, not a test: run it on a quiet machine (the tables record the load average).
 # The method in full: the docstring of scripts/vs-mitsuba/compare.py.
 #
 # Installs what it needs: Mitsuba 3 (PyPI) in a venv under target/vs-mitsuba/, and Debian's
