@@ -20,6 +20,7 @@
 
 use heapless::Vec;
 
+use crate::camera_cull::CULLED;
 use crate::math::{SOFT_FLOAT, Vec3};
 use crate::shape::{OriginTerms, Ray, Shape};
 
@@ -106,6 +107,15 @@ pub enum Filter {
     OthersBut(usize),
     /// Every object but two.
     AllButTwo(usize, usize),
+    /// The objects whose bit is set, and every object from [`CULLED`] on (a camera ray's
+    /// candidates, [`CameraCull::candidates`](crate::camera_cull::CameraCull::candidates)).
+    Among(u32),
+}
+
+/// Whether the objects `among` holds (see [`Filter::Among`]) include object `i`.
+#[inline(always)]
+pub(crate) fn among_holds(among: u32, i: usize) -> bool {
+    i >= CULLED || among >> (i & (CULLED - 1)) & 1 == 1
 }
 
 impl Filter {
@@ -120,6 +130,7 @@ impl Filter {
                 Filter::EmittersBut(a) => emitter && i != a,
                 Filter::OthersBut(a) => !emitter && i != a,
                 Filter::AllButTwo(a, b) => i != a && i != b,
+                Filter::Among(m) => among_holds(m, i),
             }
     }
 }
@@ -133,7 +144,7 @@ impl Filter {
         match self {
             Filter::EmittersBut(_) => emitters,
             Filter::OthersBut(_) => others,
-            Filter::AllBut(_) | Filter::AllButTwo(..) => true,
+            Filter::AllBut(_) | Filter::AllButTwo(..) | Filter::Among(_) => true,
         }
     }
 }
@@ -186,18 +197,46 @@ mod packets {
         /// neither skips the packet.
         emitters: bool,
         others: bool,
+        /// Bit i for each lane's object i below
+        /// [`CULLED`](crate::camera_cull::CULLED); `beyond`: some lane's object is
+        /// not below it. A query [`Filter::Among`] objects none of which are here skips the
+        /// packet.
+        bits: u32,
+        beyond: bool,
     }
 
     impl Lanes {
-        const EMPTY: Self =
-            Self { object: [EMPTY; LANES], emitter: [false; LANES], emitters: false, others: false };
+        const EMPTY: Self = Self {
+            object: [EMPTY; LANES],
+            emitter: [false; LANES],
+            emitters: false,
+            others: false,
+            bits: 0,
+            beyond: false,
+        };
 
         /// Lane `k` holds object `id`, not (yet) an emitter.
         fn set(&mut self, k: usize, id: u16) {
             if let Some(o) = self.object.get_mut(k) {
                 *o = id;
                 self.others = true;
+                match 1u32.checked_shl(u32::from(id)) {
+                    Some(bit) => self.bits |= bit,
+                    None => self.beyond = true,
+                }
             }
+        }
+
+        /// Whether a query with `filter` may look at some object here: not when it looks
+        /// [`Filter::Among`] objects none of which are in the packet, nor (see
+        /// [`Filter::may_admit`]) at a role none of them has.
+        #[inline(always)]
+        fn looked_at(&self, filter: Filter) -> bool {
+            let among = match filter {
+                Filter::Among(m) => self.beyond || m & self.bits != 0,
+                _ => true,
+            };
+            among && filter.may_admit(self.emitters, self.others)
         }
 
         /// Marks object `object` as an emitter, if it is here.
@@ -408,7 +447,7 @@ mod packets {
                 }
             };
             let r = RayLanes::new(from.origin, dir);
-            let looked_at = |l: &Lanes| filter.may_admit(l.emitters, l.others);
+            let looked_at = |l: &Lanes| l.looked_at(filter);
             for p in &self.quads {
                 if !looked_at(&p.lanes) {
                     continue;
@@ -450,7 +489,7 @@ mod packets {
         ) -> bool {
             let shape = |i: usize| objects.get(i).map(Target::shape);
             let r = RayLanes::new(from.origin, dir);
-            let looked_at = |l: &Lanes| filter.may_admit(l.emitters, l.others);
+            let looked_at = |l: &Lanes| l.looked_at(filter);
             for p in self.quads.iter().filter(|p| looked_at(&p.lanes)) {
                 let (_, hits) = p.distances(&r, t_min, t_max);
                 if lanes(hits).any(|k| p.lanes.admitted(filter, k)) {
@@ -478,7 +517,8 @@ mod packets {
 /// where they are kept.
 #[cfg(any(target_os = "none", test))]
 mod plain {
-    use super::{Filter, RaysFrom, Target};
+    use super::{Filter, RaysFrom, Target, among_holds};
+    use crate::camera_cull::CULLED;
     use crate::math::{SOFT_FLOAT, Vec3};
     use crate::shape::{FixedDir, Ray, Shape};
 
@@ -530,7 +570,7 @@ mod plain {
 
         /// True when any object `filter` admits is hit in `(t_min, t_max)` along the ray from
         /// `from` in direction `dir`; `objects` are the scene's objects.
-        #[inline]
+        #[inline(always)]
         pub(crate) fn any<const K: bool>(
             &self,
             from: &RaysFrom<S, K>,
@@ -578,41 +618,56 @@ mod plain {
             objects: &[impl Target],
         ) -> Option<(f32, usize)> {
             // One object to skip is given twice: the loop's two tests are then one.
-            let (roles, skip) = match filter {
-                Filter::AllBut(a) => (ALL, (a, a)),
-                Filter::AllButTwo(a, b) => (ALL, (a, b)),
-                Filter::EmittersBut(a) => (EMITTERS, (a, a)),
-                Filter::OthersBut(a) => (OTHERS, (a, a)),
+            const NONE: (usize, usize) = (usize::MAX, usize::MAX);
+            let (roles, skip, among) = match filter {
+                Filter::AllBut(a) => (ALL, (a, a), u32::MAX),
+                Filter::AllButTwo(a, b) => (ALL, (a, b), u32::MAX),
+                Filter::EmittersBut(a) => (EMITTERS, (a, a), u32::MAX),
+                Filter::OthersBut(a) => (OTHERS, (a, a), u32::MAX),
+                Filter::Among(m) => (ALL, NONE, m),
             };
-            // The camera ray skips nothing: its copy of the loop has no skip test.
-            let none = skip == (usize::MAX, usize::MAX);
-            match (SOFT_FLOAT, ANY, roles, KEPT, none) {
+            // The camera ray skips nothing but the objects it cannot hit: its copy of the loop
+            // tests `among` and no skip, the others `skip` and no `among`.
+            let camera = matches!(filter, Filter::Among(_));
+            match (SOFT_FLOAT, ANY, roles, KEPT, camera) {
                 (false, false, ALL, true, true) => {
-                    self.scan::<0, ALL, S, KEPT, false>(from, skip, roles, ANY, objects)
+                    self.scan::<0, ALL, S, KEPT, false, true>(from, skip, among, roles, ANY, objects)
                 }
-                (false, true, ALL, false, _) => {
-                    self.scan::<1, ALL, S, KEPT, true>(from, skip, roles, ANY, objects)
+                (false, true, ALL, false, false) => {
+                    self.scan::<1, ALL, S, KEPT, true, false>(from, skip, among, roles, ANY, objects)
                 }
-                (false, false, EMITTERS, false, _) => {
-                    self.scan::<0, EMITTERS, S, KEPT, true>(from, skip, roles, ANY, objects)
+                (false, false, EMITTERS, false, false) => {
+                    self.scan::<0, EMITTERS, S, KEPT, true, false>(from, skip, among, roles, ANY, objects)
                 }
-                (false, true, OTHERS, false, _) => {
-                    self.scan::<1, OTHERS, S, KEPT, true>(from, skip, roles, ANY, objects)
+                (false, true, OTHERS, false, false) => {
+                    self.scan::<1, OTHERS, S, KEPT, true, false>(from, skip, among, roles, ANY, objects)
                 }
-                _ => self.scan::<RUNTIME, RUNTIME, S, KEPT, true>(from, skip, roles, ANY, objects),
+                _ => {
+                    self.scan::<RUNTIME, RUNTIME, S, KEPT, true, true>(from, skip, among, roles, ANY, objects)
+                }
             }
         }
 
-        /// The loop of the queries: front to back, skipping objects `skip` and those whose role
-        /// `roles` leaves out, each test bounded by the nearest hit so far; with `any`, the
-        /// first hit found. With `KEPT`, through the kept terms. `ANY_` (0, 1) and `ROLES_`
-        /// fix `any` and `roles` in this copy of the loop, unless they are [`RUNTIME`]; without
-        /// `SKIPS`, `skip` must be none (`usize::MAX` twice), and the loop does not test it.
+        /// The loop of the queries: front to back, skipping objects `skip`, those not `among`
+        /// ([`Filter::Among`]) and those whose role `roles` leaves out, each test bounded by the
+        /// nearest hit so far; with `any`, the first hit found. With `KEPT`, through the kept
+        /// terms. `ANY_` (0, 1) and `ROLES_` fix `any` and `roles` in this copy of the loop,
+        /// unless they are [`RUNTIME`]; without `SKIPS`, `skip` must be none (`usize::MAX`
+        /// twice), and without `CULLS`, `among` every object: the loop does not test them.
         #[inline(never)]
-        fn scan<const ANY_: u8, const ROLES_: u8, const S: usize, const KEPT: bool, const SKIPS: bool>(
+        #[allow(clippy::too_many_arguments)]
+        fn scan<
+            const ANY_: u8,
+            const ROLES_: u8,
+            const S: usize,
+            const KEPT: bool,
+            const SKIPS: bool,
+            const CULLS: bool,
+        >(
             &self,
             from: &RaysFrom<S, KEPT>,
             skip: (usize, usize),
+            among: u32,
             roles: u8,
             any: bool,
             objects: &[impl Target],
@@ -621,12 +676,33 @@ mod plain {
             let any = if ANY_ == RUNTIME { any } else { ANY_ == 1 };
             let admits = |i: usize, o: &_| {
                 (!SKIPS || (i != skip.0 && i != skip.1))
+                    && (!CULLS || among_holds(among, i))
                     && (roles == ALL || (roles == EMITTERS) == Target::emits(o))
             };
             let (ray, t_min) = (&self.ray, self.t_min);
             let (mut t_far, mut best) = (self.t_max, None);
             let first = self.span.start;
-            if KEPT {
+            if KEPT && CULLS && !SKIPS && ROLES_ == ALL && ANY_ == 0 {
+                // The camera ray's copy on a target with an FPU: straight to the candidates, in
+                // increasing index order like the loop below (set bits, then the objects from
+                // CULLED on).
+                let dir = FixedDir::new(ray.dir);
+                let terms = from.terms().get(self.span.clone()).unwrap_or_default();
+                let mut test = |i: usize| {
+                    let (Some(o), Some(terms)) = (objects.get(i), terms.get(i)) else { return };
+                    if let Some(t) = o.shape().intersect_from(terms, ray, &dir, t_min, t_far) {
+                        (t_far, best) = (t, Some(first + i));
+                    }
+                };
+                let mut bits = if first == 0 { among } else { u32::MAX };
+                while bits != 0 {
+                    test(bits.trailing_zeros() as usize);
+                    bits &= bits - 1;
+                }
+                for i in CULLED..objects.len() {
+                    test(i);
+                }
+            } else if KEPT {
                 let dir = FixedDir::new(ray.dir);
                 let terms = from.terms().get(self.span.clone()).unwrap_or_default();
                 for (i, (o, terms)) in (first..).zip(objects.iter().zip(terms)) {
@@ -723,9 +799,10 @@ mod tests {
         let mut rng = Sampler::new(3, 1, 4);
         let mut hits = 0;
         for scene in 0..200 {
-            let shapes = random_shapes(&mut rng, 1 + scene % 13);
-            let mut packets: Packets<16> = Packets::default();
-            let mut plain: plain::Packets<16> = plain::Packets::default();
+            // Every tenth scene has more objects than a camera ray's candidate mask holds.
+            let shapes = random_shapes(&mut rng, if scene % 10 == 9 { 40 } else { 1 + scene % 13 });
+            let mut packets: Packets<48> = Packets::default();
+            let mut plain: plain::Packets<48> = plain::Packets::default();
             for (i, (s, e)) in shapes.iter().enumerate() {
                 packets.push(i, s);
                 plain.push(i, s);
@@ -752,15 +829,18 @@ mod tests {
                 let skip = (rng.next_u32() % 20) as usize;
                 let t_max = if rng.next_f32() < 0.5 { f32::INFINITY } else { rng.next_f32() * 6.0 };
                 let t_min = if rng.next_f32() < 0.8 { 0.0 } else { rng.next_f32() };
+                // A camera ray's candidates: a random subset (objects from CULLED on always).
+                let among = rng.next_u32() & rng.next_u32();
                 for f in [
                     Filter::AllBut(skip),
                     Filter::EmittersBut(skip),
                     Filter::OthersBut(skip),
                     Filter::AllButTwo(skip, 3),
+                    Filter::Among(among),
                 ] {
                     let want = nearest_loop(&shapes, &ray, t_min, t_max, f);
                     let bits = |h: Option<(f32, usize)>| h.map(|(t, i)| (t.to_bits(), i));
-                    let from: RaysFrom<16, false> = RaysFrom::new(ray.origin);
+                    let from: RaysFrom<48, false> = RaysFrom::new(ray.origin);
                     let got = packets.nearest(&from, ray.dir, t_min, t_max, f, &shapes);
                     assert_eq!(bits(got), bits(want), "{ray:?} {f:?}");
                     assert_eq!(packets.any(&from, ray.dir, t_min, t_max, f, &shapes), want.is_some());
@@ -768,7 +848,7 @@ mod tests {
                     let got = plain.nearest(&from, ray.dir, t_min, t_max, f, &shapes);
                     assert_eq!(bits(got), bits(want), "plain: {ray:?} {f:?}");
                     assert_eq!(plain.any(&from, ray.dir, t_min, t_max, f, &shapes), want.is_some());
-                    let mut kept: RaysFrom<16, true> = RaysFrom::new(ray.origin);
+                    let mut kept: RaysFrom<48, true> = RaysFrom::new(ray.origin);
                     for (s, _) in &shapes {
                         kept.push(s);
                     }

@@ -134,6 +134,22 @@ impl Camera {
         self.desc
     }
 
+    /// `p` in view coordinates: its offsets from the camera's origin along the right, up and
+    /// forward axes. A point in front (z > 0) lies on the primary ray through
+    /// [`Camera::film_at_slopes`] of (x / z, y / z).
+    #[inline]
+    pub(crate) fn view_of(&self, p: Vec3) -> Vec3 {
+        let q = p - self.origin;
+        Vec3::new(q.dot(self.right), q.dot(self.up), q.dot(self.forward))
+    }
+
+    /// The film point (u, v) whose primary ray has view slopes `a` = x / z and `b` = y / z:
+    /// the inverse of the mapping of [`Camera::ray`].
+    #[inline]
+    pub(crate) fn film_at_slopes(&self, a: f32, b: f32) -> Vec2 {
+        Vec2::new(0.5 * (a / self.tan_x + 1.0), 0.5 * (1.0 - b / self.tan_y))
+    }
+
     /// The primary ray through film point `film` (u right, v down, both in [0, 1]) and the
     /// distance along it of the near clip plane.
     #[inline]

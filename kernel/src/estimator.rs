@@ -109,7 +109,20 @@ pub fn trace<const S: usize, const L: usize, const M: usize>(
     t_near: f32,
     sampler: &mut Sampler,
 ) -> Estimate {
-    let Some(hit) = scene.intersect(ray, t_near, f32::INFINITY, None) else {
+    shade(scene, settings, scene.intersect(ray, t_near, f32::INFINITY, None), ray.dir, sampler)
+}
+
+/// Radiance arriving along a ray in direction `dir` whose first hit is `hit` ([`trace`] once
+/// the ray is traced): emission plus direct lighting.
+#[inline]
+pub fn shade<const S: usize, const L: usize, const M: usize>(
+    scene: &Scene<S, L, M>,
+    settings: &RenderSettings,
+    hit: Option<Hit>,
+    dir: Vec3,
+    sampler: &mut Sampler,
+) -> Estimate {
+    let Some(hit) = hit else {
         return Estimate::default();
     };
     if !hit.front {
@@ -119,7 +132,7 @@ pub fn trace<const S: usize, const L: usize, const M: usize>(
         Some((_, Light::Area { radiance, .. })) => *radiance,
         _ => Rgb::ZERO,
     };
-    let (light, bsdf) = estimate_direct(scene, settings, &hit, -ray.dir, sampler);
+    let (light, bsdf) = estimate_direct(scene, settings, &hit, -dir, sampler);
     Estimate { emitted, light, bsdf }
 }
 

@@ -46,6 +46,7 @@ pub mod accel;
 pub mod analytic;
 pub mod arith;
 pub mod camera;
+pub mod camera_cull;
 pub mod colormap;
 pub mod digest;
 pub mod error;
@@ -79,7 +80,7 @@ pub use error::Unrepresentable;
 pub use error::{Collection, Field, SceneError};
 pub use estimator::{
     Estimate, MAX_CONTRIBUTION, Shading, TechniqueEstimate, estimate_direct, estimate_direct_multi_sample,
-    estimate_direct_one_sample, trace,
+    estimate_direct_one_sample, shade, trace,
 };
 pub use ids::{LightId, MaterialId, ShapeId};
 pub use light::{Emission, Light, MAX_EMISSION};

@@ -8,7 +8,7 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 use embedded_graphics_core::primitives::Rectangle;
 
 use crate::camera::Film;
-use crate::estimator::{Estimate, trace};
+use crate::estimator::{Estimate, shade};
 use crate::math::Vec2;
 use crate::rng::Sampler;
 use crate::scene::Scene;
@@ -54,7 +54,7 @@ pub fn camera_sample<const S: usize, const L: usize, const M: usize>(
     let uv =
         Vec2::new((x as f32 + jitter.x) / film.width() as f32, (y as f32 + jitter.y) / film.height() as f32);
     let (ray, t_near) = scene.camera().ray(uv);
-    trace(scene, settings, &ray, t_near, &mut sampler)
+    shade(scene, settings, scene.intersect_camera(&ray, t_near, x, y), ray.dir, &mut sampler)
 }
 
 /// The HDR estimate of pixel `(x, y)`: the mean of `spp` camera samples (weights and counts of

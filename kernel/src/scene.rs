@@ -10,6 +10,7 @@ use crate::accel::{self, CameraRays, Filter, Packets, PointRays, RaysFrom, Targe
 #[cfg(feature = "fixed")]
 use crate::arith::Arith;
 use crate::camera::{Camera, CameraDesc, Film};
+use crate::camera_cull::CameraCull;
 use crate::error::{Collection, SceneError};
 #[cfg(feature = "fixed")]
 use crate::fixed::FixedScene;
@@ -65,6 +66,8 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     packets: Packets<S>,
     /// The camera's rays, with the origin terms of every object on microcontrollers.
     camera_rays: CameraRays<S>,
+    /// The objects the camera's rays may hit, tile by tile of the film.
+    camera_cull: CameraCull,
     materials: Vec<Material, M>,
     lights: Vec<Light, L>,
     /// Each light's terms of its cone seen from a point (selection by contribution).
@@ -87,6 +90,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         Ok(Self {
             camera: Camera::new(camera, film)?,
             camera_rays: CameraRays::new(camera.origin),
+            camera_cull: CameraCull::new(film),
             film,
             objects: Vec::new(),
             packets: Packets::default(),
@@ -104,6 +108,10 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     pub fn set_film(&mut self, film: Film) -> Result<(), SceneError> {
         self.camera = Camera::new(self.camera.desc(), film)?;
         self.film = film;
+        self.camera_cull = CameraCull::new(film);
+        for (i, o) in self.objects.iter().enumerate() {
+            self.camera_cull.add(i, &self.camera, &o.shape);
+        }
         Ok(())
     }
 
@@ -132,6 +140,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             .map_err(|_| SceneError::CapacityExceeded(Collection::Shapes))?;
         self.packets.push(usize::from(id), &shape);
         self.camera_rays.push(&shape);
+        self.camera_cull.add(usize::from(id), &self.camera, &shape);
         #[cfg(feature = "fixed")]
         if self.fixed.is_on() {
             self.fixed.turn_on(self.objects.iter().map(|o| &o.shape), self.camera.desc().origin)?;
@@ -276,37 +285,69 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// The nearest hit in `(t_min, t_max)`, ignoring object `skip`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32, skip: Option<ShapeId>) -> Option<Hit> {
+        self.query(ray, t_min, t_max, Filter::AllBut(skip.map_or(usize::MAX, ShapeId::index)))
+    }
+
+    /// The nearest hit beyond `t_near` of the camera ray `ray` through pixel `(x, y)`: that of
+    /// [`Scene::intersect`], bit for bit, with the tests of the objects no camera ray through
+    /// the pixel's tile of the film can hit left out ([`CameraCull`]). (The fixed-point
+    /// queries test every object.)
+    #[inline]
+    pub fn intersect_camera(&self, ray: &Ray, t_near: f32, x: u32, y: u32) -> Option<Hit> {
+        self.query(ray, t_near, f32::INFINITY, Filter::Among(self.camera_candidates(x, y)))
+    }
+
+    /// The objects a camera ray through pixel `(x, y)` may hit: bit i for object i (objects
+    /// from [`CULLED`](crate::camera_cull::CULLED) on may always be hit).
+    #[inline]
+    pub fn camera_candidates(&self, x: u32, y: u32) -> u32 {
+        self.camera_cull.candidates(x, y)
+    }
+
+    /// The nearest hit in `(t_min, t_max)` among the objects `filter` admits (every one but
+    /// one, or a camera ray's candidates).
+    #[inline]
+    fn query(&self, ray: &Ray, t_min: f32, t_max: f32, filter: Filter) -> Option<Hit> {
         // Hosted targets keep no origin terms (their packets need none): any ray goes straight
         // to the query, without comparing its origin with the camera's (a comparison that also
         // stalled on x86, reading the just-stored origin back in one wider load).
         if accel::ENABLED {
-            return self.intersect_from(&RaysFrom::<S, false>::new(ray.origin), ray.dir, t_min, t_max, skip);
+            return self.intersect_from(
+                &RaysFrom::<S, false>::new(ray.origin),
+                ray.dir,
+                t_min,
+                t_max,
+                filter,
+            );
         }
         // A camera ray (the camera's origin, bit for bit) takes the terms the scene keeps.
         if self.camera_rays.start_at(ray.origin) {
-            return self.intersect_from(&self.camera_rays, ray.dir, t_min, t_max, skip);
+            return self.intersect_from(&self.camera_rays, ray.dir, t_min, t_max, filter);
         }
-        self.with_rays_from(ray.origin, |from| self.intersect_from(from, ray.dir, t_min, t_max, skip))
+        self.with_rays_from(ray.origin, |from| self.intersect_from(from, ray.dir, t_min, t_max, filter))
     }
 
-    /// [`Scene::intersect`] for the ray from `from` along `dir`.
-    #[inline]
+    /// [`Scene::query`] for the ray from `from` along `dir`.
+    #[inline(always)]
     fn intersect_from<const K: bool>(
         &self,
         from: &RaysFrom<S, K>,
         dir: Vec3,
         t_min: f32,
         t_max: f32,
-        skip: Option<ShapeId>,
+        filter: Filter,
     ) -> Option<Hit> {
-        let skip = skip.map_or(usize::MAX, ShapeId::index);
         #[cfg(feature = "fixed")]
         if self.fixed.is_on() {
+            let skip = match filter {
+                Filter::AllBut(skip) => skip,
+                _ => usize::MAX,
+            };
             let ray = from.ray(dir);
             let (t, i) = self.fixed.nearest(&self.objects, &ray, t_min, t_max, false, |i| i != skip)?;
             return self.hit(&ray, t, i);
         }
-        let (t, i) = self.packets.nearest(from, dir, t_min, t_max, Filter::AllBut(skip), &self.objects)?;
+        let (t, i) = self.packets.nearest(from, dir, t_min, t_max, filter, &self.objects)?;
         self.hit(&from.ray(dir), t, i)
     }
 
@@ -398,7 +439,9 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         mut f: impl FnMut(Hit, LightId, Rgb, bool),
     ) {
         let ray = from.ray(dir);
-        let nearest = self.intersect_from(from, dir, 0.0, f32::INFINITY, Some(skip)).map(|h| h.object);
+        let nearest = self
+            .intersect_from(from, dir, 0.0, f32::INFINITY, Filter::AllBut(skip.index()))
+            .map(|h| h.object);
         for (i, o) in self.objects.iter().enumerate() {
             let Some(light) = o.light else { continue };
             if i == skip.index() {
