@@ -688,19 +688,19 @@ mod plain {
                 // CULLED on).
                 let dir = FixedDir::new(ray.dir);
                 let terms = from.terms().get(self.span.clone()).unwrap_or_default();
-                let mut test = |i: usize| {
-                    let (Some(o), Some(terms)) = (objects.get(i), terms.get(i)) else { return };
+                let mut bits = if first == 0 { among } else { u32::MAX };
+                let set_bits = core::iter::from_fn(|| {
+                    (bits != 0).then(|| {
+                        let i = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        i
+                    })
+                });
+                for i in set_bits.chain(CULLED..objects.len()) {
+                    let (Some(o), Some(terms)) = (objects.get(i), terms.get(i)) else { continue };
                     if let Some(t) = o.shape().intersect_from(terms, ray, &dir, t_min, t_far) {
                         (t_far, best) = (t, Some(first + i));
                     }
-                };
-                let mut bits = if first == 0 { among } else { u32::MAX };
-                while bits != 0 {
-                    test(bits.trailing_zeros() as usize);
-                    bits &= bits - 1;
-                }
-                for i in CULLED..objects.len() {
-                    test(i);
                 }
             } else if KEPT {
                 let dir = FixedDir::new(ray.dir);
