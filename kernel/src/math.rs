@@ -58,10 +58,19 @@ pub fn sqrt(x: f32) -> f32 {
 }
 
 /// `x` if it is positive, else 0 (NaN gives 0). Inline compare-and-select, where `f32::max`
-/// becomes an out-of-line `fmaxf` call on Cortex-M.
+/// becomes an out-of-line `fmaxf` call on Cortex-M. On the soft-float cores the comparison is
+/// one on the bits (the positive floats, infinity included, are the patterns 1 to 0x7f80_0000),
+/// not a call to the comparison routine.
 #[inline]
 pub fn max0(x: f32) -> f32 {
-    if x > 0.0 { x } else { 0.0 }
+    let positive = if SOFT_FLOAT { positive_bits(x) } else { x > 0.0 };
+    if positive { x } else { 0.0 }
+}
+
+/// `x > 0.0` from the bits (the soft-float cores' [`max0`]).
+#[inline]
+fn positive_bits(x: f32) -> bool {
+    x.to_bits().wrapping_sub(1) < 0x7f80_0000
 }
 
 /// Square root of a value clamped at zero (rounding can make a true zero slightly negative).
@@ -184,13 +193,18 @@ pub struct Frame {
 
 impl Frame {
     /// Builds a frame around the unit vector `n` (Duff et al. 2017, branchless, no singularity).
+    /// The products with `sign` (plus or minus one) are exact: on the soft-float cores they flip
+    /// the sign bit instead (the same bits for every non-NaN operand, a multiply call less each).
     #[inline]
     pub fn from_normal(n: Vec3) -> Self {
         let sign = 1.0f32.copysign(n.z);
+        let signed = |v: f32| {
+            if SOFT_FLOAT { f32::from_bits(v.to_bits() ^ (n.z.to_bits() & 0x8000_0000)) } else { sign * v }
+        };
         let a = -1.0 / (sign + n.z);
         let b = n.x * n.y * a;
         Self {
-            t: Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+            t: Vec3::new(1.0 + signed(n.x) * n.x * a, signed(b), -signed(n.x)),
             b: Vec3::new(b, sign + n.y * n.y * a, -n.y),
             n,
         }
@@ -240,6 +254,29 @@ mod tests {
         });
         for x in special.into_iter().chain(random) {
             assert_eq!(positive_finite(x), x > 0.0 && x.is_finite(), "{:08x}", x.to_bits());
+            assert_eq!(positive_bits(x), x > 0.0, "{:08x}", x.to_bits());
+        }
+    }
+
+    #[test]
+    fn frames_flip_signs_as_the_products_with_sign_did() {
+        // Normals on both sides of z = 0 (signed zeros included): the frame's sign flips give
+        // the bits of the products with sign = 1.0f32.copysign(n.z) they replace.
+        let mut bits = 0x1234_5678u32;
+        let mut next = || {
+            bits = bits.wrapping_mul(0x2c1b_3c6d).wrapping_add(0x297a_2d39);
+            f32::from_bits(0x3f80_0000 | bits >> 9) * 2.0 - 3.0
+        };
+        let mut normals = std::vec![Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(0.0, 1.0, -0.0)];
+        normals.extend((0..10_000).map(|_| Vec3::new(next(), next(), next()).normalize()));
+        for n in normals {
+            let sign = 1.0f32.copysign(n.z);
+            let a = -1.0 / (sign + n.z);
+            let b = n.x * n.y * a;
+            let t = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+            let f = Frame::from_normal(n);
+            let same = |u: Vec3, v: Vec3| u.to_array().map(f32::to_bits) == v.to_array().map(f32::to_bits);
+            assert!(same(f.t, t), "{n}: {} {t}", f.t);
         }
     }
 

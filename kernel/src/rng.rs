@@ -19,7 +19,7 @@
 //!   t <= 2 for the pixel position's dimensions (2, 3) up to 2^10 samples, and for (4, 5) up to 2^7 (3 at 2^8). Every point is uniformly
 //!   distributed, so estimates stay unbiased. Prefer power-of-two sample counts.
 
-use crate::math::Vec2;
+use crate::math::{SOFT_FLOAT, Vec2};
 
 /// PCG-RXS-M-XS 32 output permutation of one LCG step (O'Neill 2014; "pcg_hash").
 #[inline]
@@ -188,10 +188,26 @@ fn y_seed(hash: u32) -> u32 {
     mix(hash.wrapping_mul(SEED_1))
 }
 
-/// 32 bits as a number in [0, 1): the top 24, exactly representable in f32.
+/// 32 bits as a number in [0, 1): the top 24, exactly representable in f32. On the soft-float
+/// cores the float is built from the bits (the leading one's position gives the exponent), not
+/// by a conversion and a multiply: the same number.
 #[inline]
 fn to_unit(bits: u32) -> f32 {
-    (bits >> 8) as f32 * (1.0 / 16_777_216.0)
+    let v = bits >> 8;
+    if SOFT_FLOAT { unit_from_bits(v) } else { v as f32 * (1.0 / 16_777_216.0) }
+}
+
+/// `v as f32 * 2^-24` for `v` below 2^24, from the bits: v = m 2^-shift with the leading one of
+/// m at bit 23, so v 2^-24 has biased exponent 126 - shift, and m's leading one adds the last 1
+/// to the exponent field. (Out of line: RV32IMC has no count-leading-zeros instruction, and
+/// its inline expansion at every call added a kilobyte of flash.)
+#[inline(never)]
+fn unit_from_bits(v: u32) -> f32 {
+    if v == 0 {
+        return 0.0;
+    }
+    let shift = v.leading_zeros().saturating_sub(8);
+    f32::from_bits(((125 - shift.min(23)) << 23).wrapping_add(v << shift))
 }
 
 /// `(x.reverse_bits(), y.reverse_bits())`. On 64-bit hosts as one 64-bit reversal (x86 has no
@@ -364,6 +380,15 @@ impl Sampler {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn unit_numbers_from_the_bits_are_the_converted_ones() {
+        // Every 24-bit value: the soft-float cores' construction gives the host's numbers.
+        for v in 0..1u32 << 24 {
+            let want = v as f32 * (1.0 / 16_777_216.0);
+            assert_eq!(unit_from_bits(v).to_bits(), want.to_bits(), "{v}");
+        }
+    }
 
     #[test]
     fn the_pair_reversal_is_two_32_bit_reversals() {
