@@ -688,15 +688,18 @@ mod plain {
                 // CULLED on).
                 let dir = FixedDir::new(ray.dir);
                 let terms = from.terms().get(self.span.clone()).unwrap_or_default();
-                let mut bits = if first == 0 { among } else { u32::MAX };
-                let set_bits = core::iter::from_fn(|| {
-                    (bits != 0).then(|| {
+                let (mut bits, mut beyond) = (if first == 0 { among } else { u32::MAX }, CULLED);
+                loop {
+                    let i = if bits != 0 {
                         let i = bits.trailing_zeros() as usize;
                         bits &= bits - 1;
                         i
-                    })
-                });
-                for i in set_bits.chain(CULLED..objects.len()) {
+                    } else if beyond < objects.len() {
+                        beyond += 1;
+                        beyond - 1
+                    } else {
+                        break;
+                    };
                     let (Some(o), Some(terms)) = (objects.get(i), terms.get(i)) else { continue };
                     if let Some(t) = o.shape().intersect_from(terms, ray, &dir, t_min, t_far) {
                         (t_far, best) = (t, Some(first + i));
