@@ -60,7 +60,7 @@ pub fn sqrt(x: f32) -> f32 {
 /// `x` if it is positive, else 0 (NaN gives 0). Inline compare-and-select, where `f32::max`
 /// becomes an out-of-line `fmaxf` call on Cortex-M. On the Cortex-M0 the comparison is one on
 /// the bits (the positive floats, infinity included, are the patterns 1 to 0x7f80_0000), not a
-/// call to the comparison routine ([`MAX0_BY_BITS`]).
+/// call to the comparison routine (see `MAX0_BY_BITS`).
 #[inline]
 pub fn max0(x: f32) -> f32 {
     let positive = if MAX0_BY_BITS { positive_bits(x) } else { x > 0.0 };
