@@ -69,7 +69,12 @@ pub fn render_pixel<const S: usize, const L: usize, const M: usize>(
     for s in 0..settings.spp() {
         sum.merge(&camera_sample(scene, settings, x, y, s));
     }
-    sum.scale(1.0 / settings.spp() as f32);
+    // At 1 spp the mean is the sum: scaling by 1 would change no bit (every part is finite: the
+    // estimator drops NaNs and infinities, emission is validated), and on a soft-float core it
+    // costs a division and nine multiplies per pixel.
+    if settings.spp() != 1 {
+        sum.scale(1.0 / settings.spp() as f32);
+    }
     sum
 }
 

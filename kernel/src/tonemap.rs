@@ -56,7 +56,8 @@ const SRGB_STEP_BITS: [i32; 255] = {
 
 /// Linear radiance to 8-bit sRGB: clamp to [0, 1], sRGB transfer curve, round to the nearest
 /// code. The code is found by a binary search over a table of the 255 steps (8 comparisons per
-/// channel instead of a `powf`), so it costs the same on a Cortex-M0 as anywhere else. The
+/// channel instead of a `powf`, one per bit of the code), so it costs the same on a Cortex-M0 as
+/// anywhere else. The
 /// comparisons `v >= step` are integer comparisons of the bits: every step is a positive float,
 /// and positive floats (+inf included) order like their bits read as `i32`; a negative `v`
 /// (-0 included) reads as a negative `i32`, below every step, as it compares below them; a NaN
@@ -65,16 +66,16 @@ pub fn tone_map(c: Rgb) -> Rgb888 {
     let encode = |v: f32| {
         let bits = v.to_bits() as i32;
         let key = if bits > f32::INFINITY.to_bits() as i32 { -1 } else { bits };
-        // Number of steps at or below v.
-        let (mut lo, mut hi) = (0usize, SRGB_STEP_BITS.len());
-        while lo < hi {
-            let mid = (lo + hi) / 2;
-            match SRGB_STEP_BITS.get(mid) {
-                Some(&step) if key >= step => lo = mid + 1,
-                _ => hi = mid,
+        // Number of steps at or below v, by halves of the 256 codes: after the halves from 128
+        // down to 2^k the count is known to 2^k, and entry count + 2^k - 1 (at most 254) decides
+        // the next bit. Eight loads and compares, no loop bounds to test.
+        let mut count = 0usize;
+        for half in [128, 64, 32, 16, 8, 4, 2, 1] {
+            if SRGB_STEP_BITS.get(count + half - 1).is_some_and(|&step| key >= step) {
+                count += half;
             }
         }
-        lo as u8 // lo <= 255
+        count as u8 // count <= 255
     };
     Rgb888::new(encode(c.x), encode(c.y), encode(c.z))
 }
