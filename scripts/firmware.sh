@@ -210,7 +210,8 @@ check_fdiv_bound() {
 
 # check_softfloat NAME TARGET: builds the softfloat-check firmware, which runs the soft-float
 # routines on the operand pairs of fpcheck.rs and compares each result with compiler-builtins
-# (exit status 6 on a mismatch), and compares its digest line with the host's.
+# (exit status 6 on a mismatch), the kernel's dot product with glam's through the library,
+# and compares its digest lines with the host's.
 check_softfloat() {
   local name=$1 target=$2 line
   if ! build "$name" "$target" "--features softfloat-check" "$VEACH" 8 8 1 0; then
@@ -219,13 +220,13 @@ check_softfloat() {
   fi
   run_qemu "$name" "$target"
   local rc=$?
-  line=$(grep -m1 '^softfloat digest:' "$WORK/$name.log")
+  line=$(grep -E '^softfloat (dot )?digest:' "$WORK/$name.log")
   if [ $rc -ne 0 ]; then
     fail "$name: QEMU exit status $rc: $(grep -m3 '^softfloat' "$WORK/$name.log" | tr '\n' ' ')"
   elif [ -z "$SOFTFLOAT_HOST" ] || [ "$line" != "$SOFTFLOAT_HOST" ]; then
     fail "$name: soft-float digests differ: target '$line', host '$SOFTFLOAT_HOST'"
   else
-    pass "$name: $target soft float == compiler-builtins (bit for bit) and == host f32 ($line)"
+    pass "$name: $target soft float == compiler-builtins (bit for bit) and == host f32 ($(printf '%s' "$line" | tr '\n' ' '))"
   fi
 }
 
@@ -288,6 +289,7 @@ cmd_test() {
   # Cortex-M0, 64x48 (16 KiB RAM); its hand-written soft float first.
   check_fdiv_bound
   check_softfloat m0-softfloat $M0
+  check_softfloat rv-softfloat $RV
   check_render m0-veach $M0 "" "$VEACH" 64 48 1 0
   check_render m0-veach-rtt $M0 "--features rtt" "$VEACH" 64 48 1 0
   [ ${#scenes[@]} -gt 1 ] && check_render m0-lambert $M0 "" "$LAMBERT" 64 48 1 0

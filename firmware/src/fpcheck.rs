@@ -282,6 +282,8 @@ pub struct Digests {
     pub lmul: u32,
     /// The quotients of the [`DIV_PAIRS`] division pairs ([`div_operands`]).
     pub div: u32,
+    /// The dot products of the [`DOTS`] vector pairs ([`dot_operands`]), `picomis::math::dot`.
+    pub dot: u32,
 }
 
 impl Digests {
@@ -293,6 +295,7 @@ impl Digests {
             cmp: 0x811c_9dc5,
             lmul: 0x811c_9dc5,
             div: 0x811c_9dc5,
+            dot: 0x811c_9dc5,
         }
     }
 
@@ -323,6 +326,11 @@ pub fn digests(mut each_quotient: impl FnMut(u32, u32, u32, u32)) -> Digests {
         let lmul = core::hint::black_box(p).wrapping_mul(core::hint::black_box(q));
         d.push((x + y).to_bits(), (x - y).to_bits(), (x * y).to_bits(), compare_bits(x, y), lmul);
     }
+    for i in 0..DOTS {
+        let (a, b) = dot_operands(i);
+        let (a, b) = (core::hint::black_box(a), core::hint::black_box(b));
+        d.dot = Digests::fold(d.dot, canonical(picomis::math::dot(a, b).to_bits()));
+    }
     for i in 0..DIV_PAIRS {
         let (a, b) = div_operands(i);
         let (x, y) = (core::hint::black_box(f32::from_bits(a)), core::hint::black_box(f32::from_bits(b)));
@@ -331,6 +339,63 @@ pub fn digests(mut each_quotient: impl FnMut(u32, u32, u32, u32)) -> Digests {
         each_quotient(i, a, b, q);
     }
     d
+}
+
+/// Vector pairs checked by the dot product.
+pub const DOTS: u32 = 1 << 18;
+
+/// Vector pair number `i` for the dot product (`picomis::math::dot`, the kernel's; on RV32IMC a
+/// hand-written routine that keeps the products and the partial sum unpacked):
+/// - three of the operand pairs above (hard cases of products: special values, subnormal and
+///   overflowing products, exact ties);
+/// - nearly cancelling products (the second a neighbour of the first's negation, by a few units
+///   in the last place or a power of two): exact zeros and long normalizations of the sum;
+/// - values of a render's magnitude (exponents 2^-8 to 2^8, any signs and fractions), with
+///   random components set to +0 or -0 (a normal's zero components).
+pub fn dot_operands(i: u32) -> (picomis::Vec3, picomis::Vec3) {
+    let v =
+        |a: [u32; 3]| picomis::Vec3::new(f32::from_bits(a[0]), f32::from_bits(a[1]), f32::from_bits(a[2]));
+    let r = |k: u32| mix(i.wrapping_mul(7).wrapping_add(k).wrapping_mul(0x2c1b_3c6d) ^ 0x5bd1_e995);
+    let moderate = |x: u32| with_exponent(x, 119 + (x >> 24) % 17);
+    match i % 3 {
+        0 => {
+            let (p, q, t) = (operands(3 * i), operands(3 * i + 1), operands(3 * i + 2));
+            (v([p.0, q.0, t.0]), v([p.1, q.1, t.1]))
+        }
+        1 => {
+            let (x, y, z, w) = (moderate(r(0)), moderate(r(1)), moderate(r(2)), moderate(r(3)));
+            // y' = y nudged by a few ulps (or a binade), x' = -x: x y + x' y' nearly cancels.
+            let nudge = match r(4) % 4 {
+                0 => 0,
+                1 => r(5) % 8,
+                2 => 0x0080_0000,
+                _ => r(5) % 0x100,
+            };
+            let y2 = if r(6) & 1 == 0 { y.wrapping_add(nudge) } else { y.wrapping_sub(nudge) };
+            let order = r(7) % 3;
+            let (a, b) = ([x, x ^ 0x8000_0000, z], [y, y2, w]);
+            let rot = |u: [u32; 3]| match order {
+                0 => u,
+                1 => [u[2], u[0], u[1]],
+                _ => [u[1], u[2], u[0]],
+            };
+            (v(rot(a)), v(rot(b)))
+        }
+        _ => {
+            let mut a = [moderate(r(0)), moderate(r(1)), moderate(r(2))];
+            let mut b = [moderate(r(3)), moderate(r(4)), moderate(r(5))];
+            let zeros = r(6);
+            for k in 0..3 {
+                if zeros >> k & 7 == 0 {
+                    a[k] &= 0x8000_0000;
+                }
+                if zeros >> (k + 8) & 7 == 0 {
+                    b[k] &= 0x8000_0000;
+                }
+            }
+            (v(a), v(b))
+        }
+    }
 }
 
 /// 64-bit operands for the integer multiply, from pair `i`'s bits.
@@ -371,6 +436,30 @@ pub fn run() -> u32 {
         "softfloat digest: {} pairs, add {} sub {} mul {} cmp {} lmul {}; {} division pairs, div {}",
         PAIRS, d.add, d.sub, d.mul, d.cmp, d.lmul, DIV_PAIRS, d.div
     );
+    info!("softfloat dot digest: {} pairs, dot {}", DOTS, d.dot);
+    for i in 0..DOTS {
+        let (a, b) = dot_operands(i);
+        let (a, b) = (core::hint::black_box(a), core::hint::black_box(b));
+        // glam's dot product: the library's multiply and add, one call each.
+        let (ours, lib) = (picomis::math::dot(a, b).to_bits(), a.dot(b).to_bits());
+        if ours != lib {
+            if mismatches < 8 {
+                info!(
+                    "softfloat mismatch: dot pair {} ({} {} {}) . ({} {} {}): ours {} library {}",
+                    i,
+                    a.x.to_bits(),
+                    a.y.to_bits(),
+                    a.z.to_bits(),
+                    b.x.to_bits(),
+                    b.y.to_bits(),
+                    b.z.to_bits(),
+                    ours,
+                    lib
+                );
+            }
+            mismatches += 1;
+        }
+    }
     for i in 0..PAIRS {
         let (a, b) = operands(i);
         let (x, y) = (core::hint::black_box(f32::from_bits(a)), core::hint::black_box(f32::from_bits(b)));
@@ -429,7 +518,7 @@ pub fn run() -> u32 {
     info!(
         "softfloat library comparison: {} mismatches in {} results",
         mismatches,
-        5 * PAIRS + DIV_PAIRS + CONVERSIONS
+        5 * PAIRS + DIV_PAIRS + CONVERSIONS + DOTS
     );
     if mismatches == 0 { 0 } else { 6 }
 }

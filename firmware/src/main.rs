@@ -30,6 +30,7 @@ fn main() {
                 fpcheck::DIV_PAIRS,
                 d.div
             );
+            println!("softfloat dot digest: {} pairs, dot {}", fpcheck::DOTS, d.dot);
             return;
         }
         Some("fdiv-bound") => std::process::exit(if fdiv_proof::run() { 0 } else { 1 }),

@@ -2,7 +2,7 @@
 //! a vertical or horizontal field of view, and a near clip plane.
 
 use crate::error::{Field, SceneError};
-use crate::math::{Vec2, Vec3, finite3, normalize_or, sin_cos_turns, try_normalize};
+use crate::math::{Vec2, Vec3, dot, finite3, normalize_or, sin_cos_turns, try_normalize};
 use crate::shape::Ray;
 
 /// Which film axis the field of view spans.
@@ -159,7 +159,7 @@ impl Camera {
             + self.up * ((1.0 - 2.0 * film.y) * self.tan_y);
         let dir = normalize_or(d, self.forward);
         // The clip plane is perpendicular to `forward`.
-        let t_near = self.near_clip / dir.dot(self.forward);
+        let t_near = self.near_clip / dot(dir, self.forward);
         (Ray { origin: self.origin, dir }, t_near)
     }
 }

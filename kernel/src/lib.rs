@@ -49,6 +49,7 @@ pub mod camera;
 pub mod camera_cull;
 pub mod colormap;
 pub mod digest;
+mod dot3;
 pub mod error;
 pub mod estimator;
 #[cfg(feature = "fixed")]

@@ -15,7 +15,7 @@ use crate::ids::{LightId, ShapeId};
 use crate::light::Light;
 use crate::light_importance::{Receiver, weighs_bsdf};
 use crate::material::Material;
-use crate::math::{Frame, Rgb, Vec2, Vec3, max0, positive_finite, safe_sqrt, sqrt};
+use crate::math::{Frame, Rgb, Vec2, Vec3, dot, max0, positive_finite, safe_sqrt, sqrt};
 use crate::sampling::{
     GRID, GridDistribution, SphericalRectangle, bilinear_pdf, cone_one_minus_cos,
     invert_spherical_rectangle_sample, sample_bilinear, sample_spherical_rectangle, sample_uniform_cone,
@@ -475,7 +475,7 @@ impl Light {
         match *self {
             Light::Point { position, intensity } => {
                 let v = position - x;
-                let d2 = v.length_squared();
+                let d2 = dot(v, v);
                 if !(d2 > 0.0) {
                     return None;
                 }
@@ -501,7 +501,7 @@ impl Light {
                 let y = shape.sample_area(u);
                 let pdf = area_to_solid_angle(shape.area_pdf(), x, &y)?;
                 let v = y.p - x;
-                let distance = sqrt(v.length_squared());
+                let distance = sqrt(dot(v, v));
                 Some(LightSample { wi: v / distance, distance, radiance, pdf, delta: false, emitter })
             }
         }
@@ -529,8 +529,8 @@ impl Light {
 #[inline]
 fn area_to_solid_angle(pdf_area: f32, x: Vec3, y: &SurfacePoint) -> Option<f32> {
     let v = x - y.p;
-    let d2 = v.length_squared();
-    let cos_y = y.n.dot(v);
+    let d2 = dot(v, v);
+    let cos_y = dot(y.n, v);
     // cos_y here is unnormalized (times |v|): pdf = p_A d^2 / (cos_y / d) = p_A d^3 / cos_y'.
     if !(cos_y > 0.0) || !(d2 > 0.0) {
         return None;
@@ -542,7 +542,8 @@ fn area_to_solid_angle(pdf_area: f32, x: Vec3, y: &SurfacePoint) -> Option<f32> 
 /// `1 - cos(theta_max)` of the cone a sphere subtends from `x`; `None` from inside or on it.
 #[inline]
 fn sphere_cone(center: Vec3, radius: f32, x: Vec3) -> Option<f32> {
-    let d2 = (center - x).length_squared();
+    let to_center = center - x;
+    let d2 = dot(to_center, to_center);
     let r2 = radius * radius;
     (d2 > r2).then(|| cone_one_minus_cos(r2 / d2))
 }
@@ -552,7 +553,7 @@ fn sphere_cone(center: Vec3, radius: f32, x: Vec3) -> Option<f32> {
 fn sample_sphere_cone(center: Vec3, radius: f32, x: Vec3, u: Vec2) -> Option<LightSample> {
     let omc = sphere_cone(center, radius, x)?;
     let to_c = center - x;
-    let d2 = to_c.length_squared();
+    let d2 = dot(to_c, to_c);
     let d = sqrt(d2);
     let frame = Frame::from_normal(to_c / d);
     let local = sample_uniform_cone(u, omc);

@@ -3,7 +3,7 @@
 //! (`z` = normal), `wo` towards the viewer, `wi` towards the light.
 
 use crate::error::{Field, SceneError};
-use crate::math::{INV_PI, Rgb, Vec2, Vec3, finite3, positive_finite, try_normalize};
+use crate::math::{INV_PI, Rgb, Vec2, Vec3, dot, finite3, positive_finite, try_normalize};
 use crate::sampling::{cosine_hemisphere_pdf, ggx_d, ggx_g1, sample_cosine_hemisphere, sample_ggx_vndf};
 
 /// The closed set of materials.
@@ -213,7 +213,7 @@ impl Outgoing {
             }
             Material::GgxConductor { alpha, reflectance } => {
                 let m = sample_ggx_vndf(wo, alpha, u);
-                let wo_m = wo.dot(m);
+                let wo_m = dot(wo, m);
                 if wo_m <= 0.0 {
                     return None;
                 }

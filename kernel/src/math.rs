@@ -1,6 +1,7 @@
 //! The one place that chooses the math backend: glam vectors (scalar `Vec3`, no SIMD) and libm
 //! functions, so the host and a microcontroller run the same f32 operations bit for bit.
 
+pub use crate::dot3::dot;
 pub use glam::{Vec2, Vec3};
 
 /// Linear RGB radiance, irradiance or reflectance, one f32 per channel.
@@ -88,7 +89,7 @@ pub fn safe_sqrt(x: f32) -> f32 {
 /// Length of a vector.
 #[inline]
 pub fn length(v: Vec3) -> f32 {
-    sqrt(v.length_squared())
+    sqrt(dot(v, v))
 }
 
 /// `x > 0.0 && x.is_finite()`, from the bits: the positive finite floats are the bit patterns
@@ -103,7 +104,7 @@ pub fn positive_finite(x: f32) -> bool {
 /// The unit vector along `v`, or `None` when `v` is zero or not finite.
 #[inline]
 pub fn try_normalize(v: Vec3) -> Option<Vec3> {
-    let len2 = v.length_squared();
+    let len2 = dot(v, v);
     if positive_finite(len2) { Some(v * (1.0 / sqrt(len2))) } else { None }
 }
 
@@ -219,7 +220,7 @@ impl Frame {
     /// World direction to local coordinates.
     #[inline]
     pub fn to_local(&self, v: Vec3) -> Vec3 {
-        Vec3::new(v.dot(self.t), v.dot(self.b), v.dot(self.n))
+        Vec3::new(dot(v, self.t), dot(v, self.b), dot(v, self.n))
     }
 
     /// Local direction to world coordinates.

@@ -18,7 +18,7 @@ use crate::ids::{LightId, MaterialId, ShapeId};
 use crate::light::Light;
 use crate::light_importance::{LightGeometry, LightTable};
 use crate::material::Material;
-use crate::math::{Rgb, Vec3};
+use crate::math::{Rgb, Vec3, dot};
 use crate::sampling::GridDistribution;
 use crate::shape::{Ray, Shape, SurfacePoint};
 
@@ -370,7 +370,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         let p = ray.at(t);
         let n = shape.normal_at(p);
         let object = ShapeId::new(object as u16); // < S, and S shapes have u16 indices
-        Some(Hit { t, object, point: SurfacePoint { p, n }, front: n.dot(ray.dir) < 0.0 })
+        Some(Hit { t, object, point: SurfacePoint { p, n }, front: dot(n, ray.dir) < 0.0 })
     }
 
     /// The first surface along `ray` (ignoring object `skip`) if it is an emitter's front side:

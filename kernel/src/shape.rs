@@ -3,7 +3,7 @@
 //! that surface again: the estimator skips the shape of origin instead of nudging ray origins.
 
 use crate::error::{Field, SceneError};
-use crate::math::{PI, SOFT_FLOAT, Vec2, Vec3, finite3, sqrt};
+use crate::math::{PI, SOFT_FLOAT, Vec2, Vec3, dot, finite3, sqrt};
 use crate::sampling::{parallelogram_pdf, sample_parallelogram, sample_uniform_sphere};
 
 /// A ray with a unit direction.
@@ -284,7 +284,7 @@ impl Sphere {
         t_max: f32,
     ) -> Option<f32> {
         let l = f - ray.dir * b;
-        let disc = self.r2 - l.length_squared();
+        let disc = self.r2 - dot(l, l);
         if disc < 0.0 {
             return None;
         }
@@ -310,7 +310,7 @@ impl Quad {
     /// or NaN, which `hit_at`'s `t > t_min && t < t_max` rejects for every t_min and t_max.
     #[inline(always)]
     fn hit(&self, num: f32, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        let denom = self.n.dot(ray.dir);
+        let denom = dot(self.n, ray.dir);
         if num.is_sign_negative() != denom.is_sign_negative() && !t_min.is_sign_negative() {
             return None;
         }
@@ -325,8 +325,8 @@ impl Quad {
             return None;
         }
         let d = ray.at(t) - self.p0;
-        let s = d.dot(self.s_axis);
-        let v = d.dot(self.t_axis);
+        let s = dot(d, self.s_axis);
+        let v = dot(d, self.t_axis);
         ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&v)).then_some(t)
     }
 
@@ -427,9 +427,9 @@ impl Shape {
         match self {
             Shape::Sphere(s) => {
                 let f = ray.origin - s.center;
-                s.hit(f, f.dot(ray.dir), || f.length_squared() - s.r2, ray, t_min, t_max)
+                s.hit(f, dot(f, ray.dir), || dot(f, f) - s.r2, ray, t_min, t_max)
             }
-            Shape::Quad(q) => q.hit(q.plane - q.n.dot(ray.origin), ray, t_min, t_max),
+            Shape::Quad(q) => q.hit(q.plane - dot(q.n, ray.origin), ray, t_min, t_max),
         }
     }
 
@@ -440,14 +440,14 @@ impl Shape {
         OriginTerms(match self {
             Shape::Sphere(s) => {
                 let f = origin - s.center;
-                let f2 = f.length_squared();
+                let f2 = dot(f, f);
                 let c = f2 - s.r2;
                 // The bound of the early reject (see `intersect_from`); 0 rejects nothing.
                 let g = if f2 >= REJECT_MIN_F2 { c - f2 * REJECT_MARGIN } else { 0.0 };
                 let fixed = if FIXED_REJECT { SphereFixedTerms::new(f, g, c) } else { SphereFixedTerms::OFF };
                 Terms::Sphere { f, c, g, fixed }
             }
-            Shape::Quad(q) => Terms::Quad { num: q.plane - q.n.dot(origin) },
+            Shape::Quad(q) => Terms::Quad { num: q.plane - dot(q.n, origin) },
         })
     }
 
@@ -489,7 +489,7 @@ impl Shape {
                 if FIXED_REJECT && fixed.rejects(dir, t_min) {
                     return None;
                 }
-                let b = f.dot(ray.dir);
+                let b = dot(f, ray.dir);
                 if b * b < g || (b > 0.0 && c > 0.0 && !t_min.is_sign_negative()) {
                     return None;
                 }
