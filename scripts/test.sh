@@ -69,7 +69,7 @@ step "view window under Xvfb: screenshot and simulator dump equal render --out F
 cargo test --release -p picomis-sim --features window --test window
 
 if [ -x scripts/firmware.sh ]; then
-  step "firmware under QEMU: M4F, M0 and RV32IMC, pixels equal to the host's; M0 soft float bit for bit"
+  step "firmware under QEMU: M4F, M0 and RV32IMC, pixels equal to the host's; soft float and dot products bit for bit"
   scripts/firmware.sh test
   step "firmware budgets: instructions per camera sample, flash text, static RAM, peak stack"
   scripts/firmware.sh budget

@@ -444,18 +444,8 @@ pub fn run() -> u32 {
         let (ours, lib) = (picomis::math::dot(a, b).to_bits(), a.dot(b).to_bits());
         if ours != lib {
             if mismatches < 8 {
-                info!(
-                    "softfloat mismatch: dot pair {} ({} {} {}) . ({} {} {}): ours {} library {}",
-                    i,
-                    a.x.to_bits(),
-                    a.y.to_bits(),
-                    a.z.to_bits(),
-                    b.x.to_bits(),
-                    b.y.to_bits(),
-                    b.z.to_bits(),
-                    ours,
-                    lib
-                );
+                // The operands are `dot_operands(i)`, on the host too.
+                info!("softfloat mismatch: dot pair {}: ours {} library {}", i, ours, lib);
             }
             mismatches += 1;
         }
