@@ -220,7 +220,7 @@ mod packets {
             if let Some(o) = self.object.get_mut(k) {
                 *o = id;
                 self.others = true;
-                match 1u32.checked_shl(u32::from(id)) {
+                match crate::camera_cull::object_bit(usize::from(id)) {
                     Some(bit) => self.bits |= bit,
                     None => self.beyond = true,
                 }

@@ -38,6 +38,12 @@ pub const ROWS: u32 = 8;
 const TILES: usize = (COLUMNS * ROWS) as usize;
 /// Objects with an index below this get culled (one bit each); the others are always tested.
 pub const CULLED: usize = u32::BITS as usize;
+/// Object `index`'s bit in a candidate mask; `None` from [`CULLED`] on (always a candidate).
+#[inline]
+pub(crate) fn object_bit(index: usize) -> Option<u32> {
+    u32::try_from(index).ok().and_then(|i| 1u32.checked_shl(i))
+}
+
 /// Widening of every image bound, in film units (the film is 1 wide and 1 high).
 pub const MARGIN: f32 = 1e-3;
 /// Widening of a sphere's radius, relative.
@@ -90,7 +96,7 @@ impl CameraCull {
     /// runs once per object, when the scene is built.)
     #[inline(never)]
     pub fn add(&mut self, index: usize, camera: &Camera, shape: &Shape) {
-        let Some(bit) = u32::try_from(index).ok().and_then(|i| 1u32.checked_shl(i)) else {
+        let Some(bit) = object_bit(index) else {
             return; // from CULLED on: always tested
         };
         let (columns, rows) = match image(camera, self.film, shape) {
