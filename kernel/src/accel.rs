@@ -626,21 +626,19 @@ mod plain {
                 Filter::OthersBut(a) => (OTHERS, (a, a), u32::MAX),
                 Filter::Among(m) => (ALL, NONE, m),
             };
-            // The camera ray skips nothing but the objects it cannot hit: its copy of the loop
-            // tests `among` and no skip, the others `skip` and no `among`.
-            let camera = matches!(filter, Filter::Among(_));
-            match (SOFT_FLOAT, ANY, roles, KEPT, camera) {
+            // The camera's and the shadow rays' queries skip nothing but the objects they cannot
+            // hit: their copies of the loop test `among` and no skip, the others `skip` and no
+            // `among`.
+            let culls = matches!(filter, Filter::Among(_));
+            match (SOFT_FLOAT, ANY, roles, KEPT, culls) {
                 (false, false, ALL, true, true) => {
                     self.scan::<0, ALL, S, KEPT, false, true>(from, skip, among, roles, ANY, objects)
                 }
-                (false, true, ALL, false, false) => {
-                    self.scan::<1, ALL, S, KEPT, true, false>(from, skip, among, roles, ANY, objects)
+                (false, true, ALL, false, true) => {
+                    self.scan::<1, ALL, S, KEPT, false, true>(from, skip, among, roles, ANY, objects)
                 }
                 (false, false, EMITTERS, false, false) => {
                     self.scan::<0, EMITTERS, S, KEPT, true, false>(from, skip, among, roles, ANY, objects)
-                }
-                (false, true, OTHERS, false, false) => {
-                    self.scan::<1, OTHERS, S, KEPT, true, false>(from, skip, among, roles, ANY, objects)
                 }
                 _ => {
                     self.scan::<RUNTIME, RUNTIME, S, KEPT, true, true>(from, skip, among, roles, ANY, objects)
@@ -682,10 +680,10 @@ mod plain {
             let (ray, t_min) = (&self.ray, self.t_min);
             let (mut t_far, mut best) = (self.t_max, None);
             let first = self.span.start;
-            if KEPT && CULLS && !SKIPS && ROLES_ == ALL && ANY_ == 0 {
-                // The camera ray's copy on a target with an FPU: straight to the candidates, in
-                // increasing index order like the loop below (set bits, then the objects from
-                // CULLED on).
+            if CULLS && !SKIPS && ROLES_ == ALL && ANY_ != RUNTIME {
+                // The camera's and the shadow rays' copies on a target with an FPU: straight to
+                // the candidates, in increasing index order like the loops below (set bits,
+                // then the objects from CULLED on).
                 let dir = FixedDir::new(ray.dir);
                 let terms = from.terms().get(self.span.clone()).unwrap_or_default();
                 let (mut bits, mut beyond) = (if first == 0 { among } else { u32::MAX }, CULLED);
@@ -700,9 +698,18 @@ mod plain {
                     } else {
                         break;
                     };
-                    let (Some(o), Some(terms)) = (objects.get(i), terms.get(i)) else { continue };
-                    if let Some(t) = o.shape().intersect_from(terms, ray, &dir, t_min, t_far) {
+                    let Some(o) = objects.get(i) else { continue };
+                    let t = if KEPT {
+                        let Some(terms) = terms.get(i) else { continue };
+                        o.shape().intersect_from(terms, ray, &dir, t_min, t_far)
+                    } else {
+                        o.shape().intersect_inlined(ray, t_min, t_far)
+                    };
+                    if let Some(t) = t {
                         (t_far, best) = (t, Some(first + i));
+                        if any {
+                            break;
+                        }
                     }
                 }
             } else if KEPT {

@@ -342,7 +342,8 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
     if f == Rgb::ZERO || ls.radiance == Rgb::ZERO {
         return None;
     }
-    let visible = scene.unoccluded_from(from_x, ls.wi, ls.distance, at.x.object, ls.emitter);
+    let visible =
+        scene.unoccluded_from(from_x, ls.wi, ls.distance, at.x.object, ls.emitter, Some(chosen.light));
     let value = match (at.analytic(chosen.light), visible) {
         (false, true) => f * ls.radiance,
         (true, false) => -(f * ls.radiance),
@@ -382,7 +383,9 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
         lights.pmf(&at.selection, light) * lights.pdf(light, &at.point, &y.point)
     };
     if !at.control_variate {
-        let Some((y, light, radiance)) = scene.emitter_hit_from(from_x, wi, at.x.object) else { return };
+        let Some((y, light, radiance)) = scene.emitter_hit_from::<true>(from_x, wi, at.x.object) else {
+            return;
+        };
         if radiance == Rgb::ZERO {
             return;
         }

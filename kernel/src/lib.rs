@@ -67,6 +67,7 @@ pub mod rng;
 pub mod sampling;
 pub mod scene;
 pub mod settings;
+pub mod shadow_cull;
 pub mod shape;
 pub mod sqrt;
 pub mod study;

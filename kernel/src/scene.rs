@@ -20,6 +20,7 @@ use crate::light_importance::{LightGeometry, LightTable};
 use crate::material::Material;
 use crate::math::{Rgb, Vec3, dot};
 use crate::sampling::GridDistribution;
+use crate::shadow_cull::{Convex, Sets, ShadowCull};
 use crate::shape::{Ray, Shape, SurfacePoint};
 
 /// A shape with its material and, if it emits, its light.
@@ -68,6 +69,8 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     camera_rays: CameraRays<S>,
     /// The objects the camera's rays may hit, tile by tile of the film.
     camera_cull: CameraCull,
+    /// The objects that may block a shadow ray, per receiver and light.
+    shadow_cull: ShadowCull<S, L>,
     materials: Vec<Material, M>,
     lights: Vec<Light, L>,
     /// Each light's terms of its cone seen from a point (selection by contribution).
@@ -78,6 +81,33 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     /// ([`Scene::enable_arith`]; empty otherwise), filled in place.
     #[cfg(feature = "fixed")]
     fixed: FixedScene<S>,
+}
+
+/// The scene's shapes and lights as [`ShadowCull`] sees them.
+struct SceneSets<'a> {
+    objects: &'a [Object],
+    lights: &'a [Light],
+}
+
+// Out of line: the scene build calls them from a few places.
+impl Sets for SceneSets<'_> {
+    fn shapes(&self) -> usize {
+        self.objects.len()
+    }
+    #[inline(never)]
+    fn shape(&self, i: usize) -> Option<Convex> {
+        self.objects.get(i).map(|o| Convex::of_shape(&o.shape))
+    }
+    fn lights(&self) -> usize {
+        self.lights.len()
+    }
+    #[inline(never)]
+    fn light(&self, l: usize) -> Option<(Convex, Option<usize>)> {
+        match *self.lights.get(l)? {
+            Light::Area { shape, .. } => Some((self.shape(shape.index())?, Some(shape.index()))),
+            Light::Point { position, .. } => Some((Convex::point(position), None)),
+        }
+    }
 }
 
 fn index16(len: usize, what: Collection) -> Result<u16, SceneError> {
@@ -91,6 +121,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             camera: Camera::new(camera, film)?,
             camera_rays: CameraRays::new(camera.origin),
             camera_cull: CameraCull::new(film),
+            shadow_cull: ShadowCull::new(camera.origin),
             film,
             objects: Vec::new(),
             packets: Packets::default(),
@@ -141,6 +172,8 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         self.packets.push(usize::from(id), &shape);
         self.camera_rays.push(&shape);
         self.camera_cull.add(usize::from(id), &self.camera, &shape);
+        self.shadow_cull
+            .add_object(usize::from(id), &SceneSets { objects: &self.objects, lights: &self.lights });
         #[cfg(feature = "fixed")]
         if self.fixed.is_on() {
             self.fixed.turn_on(self.objects.iter().map(|o| &o.shape), self.camera.desc().origin)?;
@@ -182,6 +215,8 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         self.light_geometry.push(geometry).map_err(|_| full)?;
         self.light_power.push(power).map_err(|_| full)?;
         self.power_selection = GridDistribution::new(&self.light_power);
+        self.shadow_cull
+            .add_light(usize::from(id), &SceneSets { objects: &self.objects, lights: &self.lights });
         Ok(LightId::new(id))
     }
 
@@ -379,12 +414,22 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// runs up to it, so rays that miss every light test only the emitters.
     #[inline]
     pub fn emitter_hit(&self, ray: &Ray, skip: ShapeId) -> Option<(Hit, LightId, Rgb)> {
-        self.with_rays_from(ray.origin, |from| self.emitter_hit_from(from, ray.dir, skip))
+        self.with_rays_from(ray.origin, |from| self.emitter_hit_from::<false>(from, ray.dir, skip))
     }
 
-    /// [`Scene::emitter_hit`] for the ray from `from` along `dir`.
+    /// [`Scene::emitter_hit`] for a ray that leaves a point of object `receiver` (a BSDF sample's
+    /// ray): the same answer, with the occlusion test skipping the objects that cannot lie
+    /// between the receiver and the light found ([`ShadowCull`]). For rays from elsewhere the
+    /// answer may differ: use [`Scene::emitter_hit`].
     #[inline]
-    pub(crate) fn emitter_hit_from(
+    pub fn emitter_hit_from_surface(&self, ray: &Ray, receiver: ShapeId) -> Option<(Hit, LightId, Rgb)> {
+        self.with_rays_from(ray.origin, |from| self.emitter_hit_from::<true>(from, ray.dir, receiver))
+    }
+
+    /// [`Scene::emitter_hit`] for the ray from `from` along `dir`; with `SURFACE`,
+    /// [`Scene::emitter_hit_from_surface`] (`from` is on object `skip`).
+    #[inline]
+    pub(crate) fn emitter_hit_from<const SURFACE: bool>(
         &self,
         from: &PointRays<S>,
         dir: Vec3,
@@ -411,10 +456,13 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             return None; // the back of an emitter: it emits nothing this way
         }
         // Anything else in front of it? (Emitters were already compared above.)
-        if self.packets.any(from, dir, 0.0, t, Filter::OthersBut(skip), &self.objects) {
+        let light = self.objects.get(best)?.light?;
+        let culled =
+            if SURFACE { self.shadow_cull.other_occluders(skip, light.index(), Some(best)) } else { None };
+        let others = culled.map_or(Filter::OthersBut(skip), Filter::Among);
+        if self.packets.any(from, dir, 0.0, t, others, &self.objects) {
             return None;
         }
-        let light = self.objects.get(best)?.light?;
         match self.lights.get(light.index())? {
             Light::Area { radiance, .. } => Some((hit, light, *radiance)),
             Light::Point { .. } => None,
@@ -466,10 +514,39 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// True when nothing but objects `a` and `b` lies on the ray before `t_max`.
     #[inline]
     pub fn unoccluded(&self, ray: &Ray, t_max: f32, a: ShapeId, b: Option<ShapeId>) -> bool {
-        self.with_rays_from(ray.origin, |from| self.unoccluded_from(from, ray.dir, t_max, a, b))
+        self.with_rays_from(ray.origin, |from| self.unoccluded_from(from, ray.dir, t_max, a, b, None))
     }
 
-    /// [`Scene::unoccluded`] for the ray from `from` along `dir`.
+    /// [`Scene::unoccluded`] for a shadow ray from a point of object `receiver` to a point of
+    /// light `light` at `t_max` (skipping the receiver and the light's shape): the same answer,
+    /// testing only the objects that may lie between the two ([`ShadowCull`]). For rays from
+    /// elsewhere, or to other points, the answer may differ: use [`Scene::unoccluded`].
+    #[inline]
+    pub fn shadow_unoccluded(&self, ray: &Ray, t_max: f32, receiver: ShapeId, light: LightId) -> bool {
+        let emitter = match self.light(light) {
+            Some(Light::Area { shape, .. }) => Some(*shape),
+            _ => None,
+        };
+        self.with_rays_from(ray.origin, |from| {
+            self.unoccluded_from(from, ray.dir, t_max, receiver, emitter, Some(light))
+        })
+    }
+
+    /// The objects that may block a shadow ray from a point of object `receiver` to light
+    /// `light`: bit i for object i (objects from [`CULLED`](crate::camera_cull::CULLED) on, and
+    /// every object when the pair has no mask, may always block; the receiver and the light's
+    /// shape never do).
+    #[inline]
+    pub fn shadow_candidates(&self, receiver: ShapeId, light: LightId) -> u32 {
+        let emitter = match self.light(light) {
+            Some(Light::Area { shape, .. }) => Some(shape.index()),
+            _ => None,
+        };
+        self.shadow_cull.occluders(receiver.index(), light.index(), emitter).unwrap_or(u32::MAX)
+    }
+
+    /// [`Scene::unoccluded`] for the ray from `from` along `dir`; with `light`,
+    /// [`Scene::shadow_unoccluded`] (`from` is on object `a`, and `b` is the light's shape).
     #[inline]
     pub(crate) fn unoccluded_from(
         &self,
@@ -478,6 +555,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         t_max: f32,
         a: ShapeId,
         b: Option<ShapeId>,
+        light: Option<LightId>,
     ) -> bool {
         #[cfg(feature = "fixed")]
         if self.fixed.is_on() {
@@ -485,7 +563,9 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             let keep = |i| i != ia && i != ib;
             return self.fixed.nearest(&self.objects, &from.ray(dir), 0.0, t_max, true, keep).is_none();
         }
-        let others = Filter::AllButTwo(a.index(), b.map_or(usize::MAX, ShapeId::index));
+        let (ia, ib) = (a.index(), b.map(ShapeId::index));
+        let culled = light.and_then(|l| self.shadow_cull.occluders(ia, l.index(), ib));
+        let others = culled.map_or(Filter::AllButTwo(ia, ib.unwrap_or(usize::MAX)), Filter::Among);
         !self.packets.any(from, dir, 0.0, t_max, others, &self.objects)
     }
 }
