@@ -42,8 +42,10 @@ pub(crate) struct RaysFrom<const S: usize, const KEPT: bool> {
 
 /// The rays from the camera.
 pub(crate) type CameraRays<const S: usize> = RaysFrom<S, { !ENABLED }>;
+/// Whether the rays from a shading point keep origin terms ([`PointRays`]).
+pub(crate) const POINT_TERMS: bool = SOFT_FLOAT && !ENABLED;
 /// The rays from a shading point (its shadow and BSDF rays).
-pub(crate) type PointRays<const S: usize> = RaysFrom<S, { SOFT_FLOAT && !ENABLED }>;
+pub(crate) type PointRays<const S: usize> = RaysFrom<S, POINT_TERMS>;
 
 impl<const S: usize, const KEPT: bool> RaysFrom<S, KEPT> {
     /// The rays from `origin`, before any object is added.
@@ -53,16 +55,23 @@ impl<const S: usize, const KEPT: bool> RaysFrom<S, KEPT> {
     }
 
     /// `f` of the rays from `origin` among `shapes` (every object's, in order), built in
-    /// place (returning them would copy the terms).
+    /// place (returning them would copy the terms), with the terms of the objects in `among`
+    /// only (bit i for object i below [`CULLED`], and every object from there on): the others
+    /// get terms that hit nothing, for queries that do not test them.
     #[inline(always)]
-    pub(crate) fn with<'a, R>(
+    pub(crate) fn with_among<'a, R>(
         origin: Vec3,
         shapes: impl Iterator<Item = &'a Shape>,
+        among: u32,
         f: impl FnOnce(&Self) -> R,
     ) -> R {
         let mut rays = Self::new(origin);
-        for shape in shapes {
-            rays.push(shape);
+        for (i, shape) in shapes.enumerate() {
+            if among_holds(among, i) {
+                rays.push(shape);
+            } else if KEPT {
+                let _ = rays.terms.push(OriginTerms::NONE); // room: at most S objects
+            }
         }
         f(&rays)
     }
@@ -605,11 +614,12 @@ mod plain {
     }
 
     impl Query {
-        /// The query with `filter`, nearest hit or with `ANY` any hit. The four queries of a
-        /// camera sample on a target with an FPU (the camera ray's nearest hit, the shadow
-        /// ray's any hit, the BSDF ray's nearest emitter and any occluder) get a copy of the
-        /// loop each, with the filter built in; the rest share one. (Where f32 operations are
-        /// soft-float calls, the loop's own instructions hardly count: one copy for all.)
+        /// The query with `filter`, nearest hit or with `ANY` any hit. The queries of a camera
+        /// sample on a target with an FPU get a copy of the loop each, with the filter built
+        /// in: the camera ray's nearest hit among its tile's candidates, the BSDF ray's nearest
+        /// emitter, and the any hit among a mask's occluders that the shadow ray and the BSDF
+        /// ray's occlusion test share; the rest share one. (Where f32 operations are soft-float
+        /// calls, the loop's own instructions hardly count: one copy for all.)
         #[inline]
         fn run<const ANY: bool, const S: usize, const KEPT: bool>(
             &self,
@@ -865,11 +875,38 @@ mod tests {
                     let got = plain.nearest(&kept, ray.dir, t_min, t_max, f, &shapes);
                     assert_eq!(bits(got), bits(want), "kept terms: {ray:?} {f:?}");
                     assert_eq!(plain.any(&kept, ray.dir, t_min, t_max, f, &shapes), want.is_some());
+                    if let Filter::Among(m) = f {
+                        // Terms kept for the objects the query tests only: the same answer.
+                        let shapes_only = shapes.iter().map(|(s, _)| s);
+                        let got = RaysFrom::<48, true>::with_among(ray.origin, shapes_only, m, |rays| {
+                            plain.nearest(rays, ray.dir, t_min, t_max, f, &shapes)
+                        });
+                        assert_eq!(bits(got), bits(want), "terms among {m:08x}: {ray:?}");
+                    }
                     hits += usize::from(want.is_some());
                 }
             }
         }
         // The check is not vacuous: many rays hit something.
         assert!(hits > 20_000, "{hits}");
+    }
+
+    #[test]
+    fn terms_of_no_origin_hit_nothing() {
+        let mut rng = Sampler::new(4, 1, 4);
+        let shapes = random_shapes(&mut rng, 200);
+        let mut hits = 0;
+        for (s, _) in &shapes {
+            for _ in 0..20 {
+                let origin =
+                    Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 8.0 - Vec3::splat(4.0);
+                let ray = Ray { origin, dir: (s.centroid() - origin).normalize() };
+                hits += usize::from(s.intersect(&ray, 0.0, f32::INFINITY).is_some());
+                let dir = crate::shape::FixedDir::new(ray.dir);
+                let none = s.intersect_from(&OriginTerms::NONE, &ray, &dir, 0.0, f32::INFINITY);
+                assert_eq!(none, None, "{s:?} {ray:?}");
+            }
+        }
+        assert!(hits > 3000, "{hits}");
     }
 }

@@ -9,7 +9,7 @@
 //! technique's weighted contribution and weights are kept apart, so the lecture's weight and
 //! contribution images come from this one function.
 
-use crate::accel::PointRays;
+use crate::accel::{POINT_TERMS, PointRays};
 use crate::analytic;
 use crate::ids::LightId;
 use crate::light::Light;
@@ -149,9 +149,11 @@ pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
     wo: Vec3,
     sampler: &mut Sampler,
 ) -> (TechniqueEstimate, TechniqueEstimate) {
-    let Some(at) = Shading::new(scene, settings, x, wo) else {
+    // (Not through `Shading::new`: its `Option` cost a copy of the struct on the M4F.)
+    let Some(bsdf) = reflecting(scene, x) else {
         return (TechniqueEstimate::default(), TechniqueEstimate::default());
     };
+    let at = Shading::with_bsdf(scene, settings, x, bsdf, wo);
     let (mut by_light, by_bsdf) = match settings.mis_model() {
         MisModel::Multi => estimate_direct_multi_sample(scene, settings, &at, sampler),
         MisModel::One { .. } => estimate_direct_one_sample(scene, settings, &at, sampler),
@@ -174,7 +176,7 @@ pub fn estimate_direct_multi_sample<const S: usize, const L: usize, const M: usi
     let (n_l, n_b) = settings.technique_samples();
     let (n_light, n_bsdf) = (f32::from(n_l), f32::from(n_b));
     // Shadow and BSDF rays all start at x: what their tests need of x alone, computed once.
-    scene.with_rays_from(at.x.point.p, |from_x| {
+    at.with_rays(scene, |from_x| {
         // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
         for _ in 0..n_l {
             if let Some(s) = light_sample(scene, settings, at, from_x, sampler) {
@@ -208,7 +210,7 @@ pub fn estimate_direct_one_sample<const S: usize, const L: usize, const M: usize
     let c_light = settings.c_light();
     let c_bsdf = 1.0 - c_light;
     // The multi-sample formulas with n_i replaced by c_i, for one sample of one technique.
-    scene.with_rays_from(at.x.point.p, |from_x| {
+    at.with_rays(scene, |from_x| {
         if sampler.next_f32() < c_light {
             if let Some(s) = light_sample(scene, settings, at, from_x, sampler) {
                 add_light_sample(&mut by_light, method, &s, c_light, c_bsdf);
@@ -270,16 +272,27 @@ impl<'a, const L: usize> Shading<'a, L> {
         x: &'a Hit,
         wo: Vec3,
     ) -> Option<Self> {
-        let bsdf = scene.material(x.object).filter(|m| !m.is_black())?;
+        Some(Self::with_bsdf(scene, settings, x, reflecting(scene, x)?, wo))
+    }
+
+    /// [`Shading::new`] for the shading point's (non-black) material `bsdf`.
+    #[inline]
+    fn with_bsdf<const S: usize, const M: usize>(
+        scene: &'a Scene<S, L, M>,
+        settings: &RenderSettings,
+        x: &'a Hit,
+        bsdf: &'a Material,
+        wo: Vec3,
+    ) -> Self {
         let frame = Frame::from_normal(x.point.n);
         let point = ShadingPoint { p: x.point.p, n: x.point.n, wo, bsdf: *bsdf };
         let wo = frame.to_local(wo);
-        // On the microcontrollers the selection reads a copy of the point: lent to the
-        // out-of-line selection by contribution, `point` itself would be built apart and copied
-        // into the struct after (some 100 instructions per shading point on the M4F). On x86
-        // the copy would cost instead.
+        // On the microcontrollers the selection by contribution reads a copy of the point: lent
+        // to the out-of-line selection, `point` itself would be built apart and copied into the
+        // struct after (some 100 instructions per shading point on the M4F). The other
+        // selections take no copy (6 instructions on the M4F), nor does x86, where it would cost.
         let lights = light_sampler(scene, settings);
-        let selection = if cfg!(target_os = "none") {
+        let selection = if cfg!(target_os = "none") && lights.selects_locally() {
             let copy = point;
             lights.selection_in(&copy, &frame, wo)
         } else {
@@ -289,7 +302,22 @@ impl<'a, const L: usize> Shading<'a, L> {
             settings.control_variate() == ControlVariate::On && matches!(bsdf, Material::Lambertian { .. });
         let (covered, unoccluded) =
             if control_variate { analytic::unoccluded_light(scene, bsdf, x, wo.z) } else { (0, Rgb::ZERO) };
-        Some(Shading { x, bsdf, frame, wo, point, selection, control_variate, covered, unoccluded })
+        Shading { x, bsdf, frame, wo, point, selection, control_variate, covered, unoccluded }
+    }
+
+    /// `f` of the shadow and BSDF rays from here, with the origin terms their queries need: with
+    /// the control variate, whose BSDF rays look for every emitter along them, those of all
+    /// objects; else those of the objects the culled queries may test. (Where the rays keep no
+    /// origin terms, that is one case.)
+    #[inline(always)]
+    fn with_rays<const S: usize, const M: usize, R>(
+        &self,
+        scene: &Scene<S, L, M>,
+        f: impl FnOnce(&PointRays<S>) -> R,
+    ) -> R {
+        let among =
+            if self.control_variate || !POINT_TERMS { u32::MAX } else { scene.reachable(self.x.object) };
+        scene.with_rays_among(self.x.point.p, among, f)
     }
 
     /// Whether light `light`'s part is sampled as f (V - 1) (its unoccluded part is in closed form).
@@ -299,6 +327,15 @@ impl<'a, const L: usize> Shading<'a, L> {
         // (`covered` is 0 without the control variate: skip the 64-bit shift then.)
         self.control_variate && i < 64 && self.covered & (1 << i) != 0
     }
+}
+
+/// The material of the surface `x` hit, if it reflects anything.
+#[inline]
+fn reflecting<'a, const S: usize, const L: usize, const M: usize>(
+    scene: &'a Scene<S, L, M>,
+    x: &Hit,
+) -> Option<&'a Material> {
+    scene.material(x.object).filter(|m| !m.is_black())
 }
 
 /// The light sampler of the settings' strategies.

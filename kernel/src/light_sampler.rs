@@ -291,7 +291,7 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
     /// True when the selection depends on the shading point: by contribution, among several
     /// lights (a single light is chosen with probability one, like uniform selection does).
     #[inline]
-    fn selects_locally(&self) -> bool {
+    pub(crate) fn selects_locally(&self) -> bool {
         self.selection == LightSelection::Contribution && self.scene.lights().len() > 1
     }
 

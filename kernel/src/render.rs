@@ -53,8 +53,8 @@ pub fn camera_sample<const S: usize, const L: usize, const M: usize>(
     let jitter = sampler.next_2d();
     let uv =
         Vec2::new((x as f32 + jitter.x) / film.width() as f32, (y as f32 + jitter.y) / film.height() as f32);
-    let (ray, t_near) = scene.camera().ray(uv);
-    shade(scene, settings, scene.intersect_camera(&ray, t_near, x, y), ray.dir, &mut sampler)
+    let (ray, hit) = scene.camera_hit(uv, x, y);
+    shade(scene, settings, hit, ray.dir, &mut sampler)
 }
 
 /// The HDR estimate of pixel `(x, y)`: the mean of `spp` camera samples (weights and counts of

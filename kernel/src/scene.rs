@@ -18,7 +18,7 @@ use crate::ids::{LightId, MaterialId, ShapeId};
 use crate::light::Light;
 use crate::light_importance::{LightGeometry, LightTable};
 use crate::material::Material;
-use crate::math::{Rgb, Vec3, dot};
+use crate::math::{Rgb, Vec2, Vec3, dot};
 use crate::sampling::GridDistribution;
 use crate::shadow_cull::{Convex, Sets, ShadowCull};
 use crate::shape::{Ray, Shape, SurfacePoint};
@@ -332,6 +332,21 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         self.query(ray, t_near, f32::INFINITY, Filter::Among(self.camera_candidates(x, y)))
     }
 
+    /// The camera ray through film point `uv` of pixel `(x, y)` and its nearest hit beyond the
+    /// clip plane: [`Scene::intersect_camera`] of [`Camera::ray`]'s ray, without checking that
+    /// the ray starts at the camera (it does).
+    #[inline]
+    pub(crate) fn camera_hit(&self, uv: Vec2, x: u32, y: u32) -> (Ray, Option<Hit>) {
+        let (ray, t_near) = self.camera.ray(uv);
+        let filter = Filter::Among(self.camera_candidates(x, y));
+        let hit = if accel::ENABLED {
+            self.query(&ray, t_near, f32::INFINITY, filter)
+        } else {
+            self.intersect_from(&self.camera_rays, ray.dir, t_near, f32::INFINITY, filter)
+        };
+        (ray, hit)
+    }
+
     /// The objects a camera ray through pixel `(x, y)` may hit: bit i for object i (objects
     /// from [`CULLED`](crate::camera_cull::CULLED) on may always be hit).
     #[inline]
@@ -390,12 +405,32 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// the queries that take them.
     #[inline(always)]
     pub(crate) fn with_rays_from<R>(&self, origin: Vec3, f: impl FnOnce(&PointRays<S>) -> R) -> R {
+        self.with_rays_among(origin, u32::MAX, f)
+    }
+
+    /// The objects that the culled queries of the shadow and BSDF rays from a point of object
+    /// `receiver` may test ([`Scene::unoccluded_from`] with a light, [`Scene::emitter_hit_from`]
+    /// with `SURFACE`): bit i for object i ([`ShadowCull::reachable`]).
+    #[inline]
+    pub(crate) fn reachable(&self, receiver: ShapeId) -> u32 {
+        self.shadow_cull.reachable(receiver.index())
+    }
+
+    /// [`Scene::with_rays_from`] with the origin terms of the objects in `among` only (bit i for
+    /// object i below 32; every object from there on), for queries that test no other.
+    #[inline(always)]
+    pub(crate) fn with_rays_among<R>(
+        &self,
+        origin: Vec3,
+        among: u32,
+        f: impl FnOnce(&PointRays<S>) -> R,
+    ) -> R {
         // The fixed-point queries do not read the f32 origin terms: none are computed.
         #[cfg(feature = "fixed")]
         let objects: &[Object] = if self.fixed.is_on() { &[] } else { &self.objects };
         #[cfg(not(feature = "fixed"))]
         let objects = &self.objects;
-        PointRays::with(origin, objects.iter().map(|o| &o.shape), f)
+        PointRays::with_among(origin, objects.iter().map(|o| &o.shape), among, f)
     }
 
     /// The [`Hit`] record for object `object` at distance `t` along `ray`.
@@ -457,8 +492,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         }
         // Anything else in front of it? (Emitters were already compared above.)
         let light = self.objects.get(best)?.light?;
-        let culled =
-            if SURFACE { self.shadow_cull.other_occluders(skip, light.index(), Some(best)) } else { None };
+        let culled = if SURFACE { self.shadow_cull.other_occluders(skip, light.index()) } else { None };
         let others = culled.map_or(Filter::OthersBut(skip), Filter::Among);
         if self.packets.any(from, dir, 0.0, t, others, &self.objects) {
             return None;
@@ -538,11 +572,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// shape never do).
     #[inline]
     pub fn shadow_candidates(&self, receiver: ShapeId, light: LightId) -> u32 {
-        let emitter = match self.light(light) {
-            Some(Light::Area { shape, .. }) => Some(shape.index()),
-            _ => None,
-        };
-        self.shadow_cull.occluders(receiver.index(), light.index(), emitter).unwrap_or(u32::MAX)
+        self.shadow_cull.occluders(receiver.index(), light.index()).unwrap_or(u32::MAX)
     }
 
     /// [`Scene::unoccluded`] for the ray from `from` along `dir`; with `light`,
@@ -563,9 +593,9 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             let keep = |i| i != ia && i != ib;
             return self.fixed.nearest(&self.objects, &from.ray(dir), 0.0, t_max, true, keep).is_none();
         }
-        let (ia, ib) = (a.index(), b.map(ShapeId::index));
-        let culled = light.and_then(|l| self.shadow_cull.occluders(ia, l.index(), ib));
-        let others = culled.map_or(Filter::AllButTwo(ia, ib.unwrap_or(usize::MAX)), Filter::Among);
+        let culled = light.and_then(|l| self.shadow_cull.occluders(a.index(), l.index()));
+        let others =
+            culled.map_or(Filter::AllButTwo(a.index(), b.map_or(usize::MAX, ShapeId::index)), Filter::Among);
         !self.packets.any(from, dir, 0.0, t_max, others, &self.objects)
     }
 }

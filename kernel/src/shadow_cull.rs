@@ -165,6 +165,10 @@ pub trait Sets {
     fn light(&self, l: usize) -> Option<(Convex, Option<usize>)>;
 }
 
+/// The mask of a pair that has none: every bit set, which no mask has (it leaves out its receiver
+/// or its light's shape, one of which is below [`CULLED`] when the pair has a mask).
+const NO_MASK: u32 = u32::MAX;
+
 /// For each receiver and light, the objects that may block a shadow ray between them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShadowCull<const S: usize, const L: usize> {
@@ -226,8 +230,13 @@ impl<const S: usize, const L: usize> ShadowCull<S, L> {
         emitter: Option<usize>,
         sets: &impl Sets,
     ) {
+        // A receiver or an emitter from CULLED on would be tested anyway: no mask.
+        let masked = r < CULLED && emitter.is_none_or(|e| e < CULLED);
         if let Some(mask) = self.masks.get_mut(r).and_then(|row| row.get_mut(l)) {
-            *mask = 0;
+            *mask = if masked { 0 } else { NO_MASK };
+        }
+        if !masked {
+            return;
         }
         for o in 0..sets.shapes().min(CULLED) {
             if let Some(set) = sets.shape(o) {
@@ -259,22 +268,29 @@ impl<const S: usize, const L: usize> ShadowCull<S, L> {
     }
 
     /// The objects that may block a shadow ray from a point of object `receiver` to light
-    /// `light` on object `emitter` (`None`: a point light), neither of them among them: a mask
-    /// for [`Filter::Among`](crate::accel::Filter::Among). `None` when the pair has no mask (a
-    /// receiver or an emitter from [`CULLED`] on, or an unknown light).
+    /// `light`, neither the receiver nor the light's shape among them: a mask for
+    /// [`Filter::Among`](crate::accel::Filter::Among). `None` when the pair has no mask (a
+    /// receiver or a light's shape from [`CULLED`] on, or an unknown pair).
     #[inline]
-    pub fn occluders(&self, receiver: usize, light: usize, emitter: Option<usize>) -> Option<u32> {
-        object_bit(receiver)?;
-        if let Some(e) = emitter {
-            object_bit(e)?;
+    pub fn occluders(&self, receiver: usize, light: usize) -> Option<u32> {
+        self.masks.get(receiver)?.get(light).copied().filter(|&m| m != NO_MASK)
+    }
+
+    /// The objects a culled shadow or BSDF ray from a point of object `receiver` may test: the
+    /// emitters and every light's occluders (bit o for object o; every object when a pair has
+    /// no mask).
+    #[inline]
+    pub fn reachable(&self, receiver: usize) -> u32 {
+        match self.masks.get(receiver) {
+            Some(row) => row.iter().fold(self.emitters, |all, &m| all | m),
+            None => u32::MAX,
         }
-        self.masks.get(receiver)?.get(light).copied()
     }
 
     /// [`ShadowCull::occluders`] that do not emit.
     #[inline]
-    pub fn other_occluders(&self, receiver: usize, light: usize, emitter: Option<usize>) -> Option<u32> {
-        self.occluders(receiver, light, emitter).map(|m| m & !self.emitters)
+    pub fn other_occluders(&self, receiver: usize, light: usize) -> Option<u32> {
+        self.occluders(receiver, light).map(|m| m & !self.emitters)
     }
 }
 
@@ -410,8 +426,8 @@ mod tests {
         }
         assert_eq!(a, b);
         assert!(a.masks.iter().flatten().any(|&m| m != 0) && a.masks.iter().flatten().any(|&m| m == 0));
-        assert_eq!(a.occluders(0, 0, Some(1)), Some(a.masks[0][0]));
-        assert_eq!(a.occluders(0, 3, Some(1)), None);
-        assert_eq!(a.other_occluders(0, 1, Some(4)).map(|m| m & (1 << 6 | 1 << 1)), Some(0));
+        assert_eq!(a.occluders(0, 0), Some(a.masks[0][0]));
+        assert_eq!(a.occluders(0, 3), None);
+        assert_eq!(a.other_occluders(0, 1).map(|m| m & (1 << 6 | 1 << 1)), Some(0));
     }
 }

@@ -63,6 +63,12 @@ pub struct Quad {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct OriginTerms(Terms);
 
+impl OriginTerms {
+    /// Terms that no shape's test reads as a hit (in place of those of an object the rays from
+    /// an origin never test).
+    pub(crate) const NONE: Self = OriginTerms(Terms::Quad { num: f32::NAN });
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Terms {
     /// `f = o - center`, `c = |f|^2 - r^2`, the bound `g` of the early reject, and the
