@@ -4,7 +4,7 @@
 //! full query `Scene::intersect`, bit for bit (distance, object, point, normal, side). The check is
 //! not vacuous: most rays hit something, and the tiles cull most of the Veach scene's objects.
 
-use picomis::{Film, Sampler, Scene, Vec2};
+use picomis::{Arith, Film, Sampler, Scene, Vec2};
 use picomis_sim::scenes::{self, BUILTINS, SceneVisitor};
 
 /// Film sizes: the firmware's boards (64x48, 160x120), the Veach scene's own, a 1-pixel film
@@ -13,12 +13,17 @@ const FILMS: [(u32, u32); 6] = [(64, 48), (160, 120), (384, 256), (1, 1), (37, 2
 /// Points per pixel besides its four corners.
 const JITTERED: u32 = 4;
 
-/// (rays, rays that hit, objects tested, objects in the scene per ray).
-struct Check(Film);
+/// (rays, rays that hit, objects tested, objects in the scene per ray), in the ray queries'
+/// arithmetic given.
+struct Check(Film, Arith);
 
 impl SceneVisitor for Check {
     type Output = (u64, u64, u64, u64);
-    fn visit<const S: usize, const L: usize, const M: usize>(self, scene: Scene<S, L, M>) -> Self::Output {
+    fn visit<const S: usize, const L: usize, const M: usize>(
+        self,
+        mut scene: Scene<S, L, M>,
+    ) -> Self::Output {
+        scene.enable_arith(self.1).expect("every built-in scene can be represented in fixed point");
         let film = self.0;
         let (w, h) = (film.width(), film.height());
         let mut rng = Sampler::new(5, w, h);
@@ -49,16 +54,28 @@ impl SceneVisitor for Check {
 
 #[test]
 fn culled_camera_rays_hit_what_the_full_query_hits_on_every_builtin_scene() {
+    check(Arith::F32, &FILMS);
+}
+
+/// The fixed-point queries cull the same objects (their hits are within about 1e-7 of the
+/// scene's extent of the exact geometry, far inside the margin), on three of the films.
+#[test]
+fn culled_fixed_point_camera_rays_hit_what_the_full_query_hits_on_every_builtin_scene() {
+    check(Arith::Fixed, &FILMS[..1]);
+    check(Arith::Fixed, &FILMS[3..5]);
+}
+
+fn check(arith: Arith, films: &[(u32, u32)]) {
     for b in BUILTINS {
         let loaded = scenes::load(Some(b.name)).unwrap();
         let (mut rays, mut hits, mut tested, mut all) = (0, 0, 0, 0);
-        for (w, h) in FILMS {
+        for &(w, h) in films {
             let (r, hi, t, a) =
-                loaded.visit(Film::new(w, h).unwrap(), Check(Film::new(w, h).unwrap())).unwrap();
+                loaded.visit(Film::new(w, h).unwrap(), Check(Film::new(w, h).unwrap(), arith)).unwrap();
             (rays, hits, tested, all) = (rays + r, hits + hi, tested + t, all + a);
         }
         println!(
-            "{}: {rays} camera rays, {:.1} % hit, {:.1} of {:.0} objects tested per ray",
+            "{} ({arith:?}): {rays} camera rays, {:.1} % hit, {:.1} of {:.0} objects tested per ray",
             b.name,
             100.0 * hits as f64 / rays as f64,
             tested as f64 / rays as f64,

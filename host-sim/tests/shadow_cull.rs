@@ -11,8 +11,8 @@
 
 use picomis::sampling::sample_uniform_sphere;
 use picomis::{
-    Film, LightId, LightSampler, LightSelection, QuadSampling, Ray, Sampler, Scene, ShadingPoint, ShapeId,
-    SphereSampling, Vec2,
+    Arith, Film, LightId, LightSampler, LightSelection, QuadSampling, Ray, Sampler, Scene, ShadingPoint,
+    ShapeId, SphereSampling, Vec2,
 };
 use picomis_sim::scenes::{self, BUILTINS, SceneVisitor};
 
@@ -32,11 +32,13 @@ struct Counts {
     all: u64,
 }
 
-struct Check;
+/// The check in the arithmetic of the ray queries given.
+struct Check(Arith);
 
 impl SceneVisitor for Check {
     type Output = Counts;
-    fn visit<const S: usize, const L: usize, const M: usize>(self, scene: Scene<S, L, M>) -> Counts {
+    fn visit<const S: usize, const L: usize, const M: usize>(self, mut scene: Scene<S, L, M>) -> Counts {
+        scene.enable_arith(self.0).expect("every built-in scene can be represented in fixed point");
         let film = scene.film();
         let (w, h) = (film.width(), film.height());
         let mut rng = Sampler::new(9, w, h);
@@ -109,12 +111,23 @@ fn check_emitter_hit<const S: usize, const L: usize, const M: usize>(
 
 #[test]
 fn culled_shadow_queries_answer_as_the_full_ones_on_every_builtin_scene() {
+    check(Arith::F32);
+}
+
+/// The fixed-point queries cull the same objects: their hits are within about 1e-7 of the
+/// scene's extent of the exact geometry too, far inside the margin.
+#[test]
+fn culled_fixed_point_shadow_queries_answer_as_the_full_ones_on_every_builtin_scene() {
+    check(Arith::Fixed);
+}
+
+fn check(arith: Arith) {
     let film = Film::new(64, 48).unwrap();
     for b in BUILTINS {
         let loaded = scenes::load(Some(b.name)).unwrap();
-        let c = loaded.visit(film, Check).unwrap();
+        let c = loaded.visit(film, Check(arith)).unwrap();
         println!(
-            "{}: {} shadow rays, {:.1} % blocked, {:.2} of {:.0} objects tested per ray; {} BSDF-like rays, {:.1} % find a light",
+            "{} ({arith:?}): {} shadow rays, {:.1} % blocked, {:.2} of {:.0} objects tested per ray; {} BSDF-like rays, {:.1} % find a light",
             b.name,
             c.shadow_rays,
             100.0 * c.blocked as f64 / c.shadow_rays as f64,

@@ -325,8 +325,8 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
 
     /// The nearest hit beyond `t_near` of the camera ray `ray` through pixel `(x, y)`: that of
     /// [`Scene::intersect`], bit for bit, with the tests of the objects no camera ray through
-    /// the pixel's tile of the film can hit left out ([`CameraCull`]). (The fixed-point
-    /// queries test every object.)
+    /// the pixel's tile of the film can hit left out ([`CameraCull`]), in f32 and in fixed
+    /// point alike.
     #[inline]
     pub fn intersect_camera(&self, ray: &Ray, t_near: f32, x: u32, y: u32) -> Option<Hit> {
         self.query(ray, t_near, f32::INFINITY, Filter::Among(self.camera_candidates(x, y)))
@@ -389,12 +389,14 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     ) -> Option<Hit> {
         #[cfg(feature = "fixed")]
         if self.fixed.is_on() {
-            let skip = match filter {
-                Filter::AllBut(skip) => skip,
-                _ => usize::MAX,
+            // (The queries for emitters or non-emitters have fixed-point branches of their own.)
+            let keep = |i: usize| match filter {
+                Filter::AllBut(skip) => i != skip,
+                Filter::Among(m) => accel::among_holds(m, i),
+                _ => true,
             };
             let ray = from.ray(dir);
-            let (t, i) = self.fixed.nearest(&self.objects, &ray, t_min, t_max, false, |i| i != skip)?;
+            let (t, i) = self.fixed.nearest(&self.objects, &ray, t_min, t_max, false, keep)?;
             return self.hit(&ray, t, i);
         }
         let (t, i) = self.packets.nearest(from, dir, t_min, t_max, filter, &self.objects)?;
@@ -473,10 +475,13 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         let skip = skip.index();
         #[cfg(feature = "fixed")]
         if self.fixed.is_on() {
-            // The first surface, if it is an emitter's front side.
+            // The first surface, if it is an emitter's front side. From a point of `skip`, among
+            // the objects the culled queries may test only: an object that no segment from
+            // there to a light can meet is never before an emitter on the ray.
+            let reachable = if SURFACE { self.shadow_cull.reachable(skip) } else { u32::MAX };
+            let keep = |i| i != skip && accel::among_holds(reachable, i);
             let ray = from.ray(dir);
-            let (t, best) =
-                self.fixed.nearest(&self.objects, &ray, 0.0, f32::INFINITY, false, |i| i != skip)?;
+            let (t, best) = self.fixed.nearest(&self.objects, &ray, 0.0, f32::INFINITY, false, keep)?;
             let hit = self.hit(&ray, t, best).filter(|h| h.front)?;
             let light = self.objects.get(best)?.light?;
             return match self.lights.get(light.index())? {
@@ -587,13 +592,13 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         b: Option<ShapeId>,
         light: Option<LightId>,
     ) -> bool {
+        let culled = light.and_then(|l| self.shadow_cull.occluders(a.index(), l.index()));
         #[cfg(feature = "fixed")]
         if self.fixed.is_on() {
             let (ia, ib) = (a.index(), b.map_or(usize::MAX, ShapeId::index));
-            let keep = |i| i != ia && i != ib;
+            let keep = |i| i != ia && i != ib && culled.is_none_or(|m| accel::among_holds(m, i));
             return self.fixed.nearest(&self.objects, &from.ray(dir), 0.0, t_max, true, keep).is_none();
         }
-        let culled = light.and_then(|l| self.shadow_cull.occluders(a.index(), l.index()));
         let others =
             culled.map_or(Filter::AllButTwo(a.index(), b.map_or(usize::MAX, ShapeId::index)), Filter::Among);
         !self.packets.any(from, dir, 0.0, t_max, others, &self.objects)
