@@ -149,11 +149,17 @@ pub fn estimate_direct<const S: usize, const L: usize, const M: usize>(
     wo: Vec3,
     sampler: &mut Sampler,
 ) -> (TechniqueEstimate, TechniqueEstimate) {
-    // (Not through `Shading::new`: its `Option` cost a copy of the struct on the M4F.)
-    let Some(bsdf) = reflecting(scene, x) else {
-        return (TechniqueEstimate::default(), TechniqueEstimate::default());
+    let none = (TechniqueEstimate::default(), TechniqueEstimate::default());
+    // On the microcontrollers not through `Shading::new`, whose `Option` cost a copy of the
+    // struct on the M4F (some 100 instructions). On x86 the other way round: that struct built
+    // by a function of its own made the render 15 % slower.
+    #[cfg(target_os = "none")]
+    let at = match reflecting(scene, x) {
+        Some(bsdf) => Shading::with_bsdf(scene, settings, x, bsdf, wo),
+        None => return none,
     };
-    let at = Shading::with_bsdf(scene, settings, x, bsdf, wo);
+    #[cfg(not(target_os = "none"))]
+    let Some(at) = Shading::new(scene, settings, x, wo) else { return none };
     let (mut by_light, by_bsdf) = match settings.mis_model() {
         MisModel::Multi => estimate_direct_multi_sample(scene, settings, &at, sampler),
         MisModel::One { .. } => estimate_direct_one_sample(scene, settings, &at, sampler),
@@ -242,6 +248,35 @@ fn add_bsdf_sample(to: &mut TechniqueEstimate, method: Method, s: &Found, m_ligh
     to.add(s.value * (w / m_bsdf), w);
 }
 
+/// The shading point `x` (on a surface of non-black material `bsdf`) seen from `wo`: the one body
+/// of [`Shading::new`] and, on the microcontrollers, of `Shading::with_bsdf` (a macro, not a
+/// function both call: see [`estimate_direct`]).
+macro_rules! shading {
+    ($scene:expr, $settings:expr, $x:expr, $bsdf:expr, $wo:expr) => {{
+        let (scene, settings, x, bsdf, wo): (_, &RenderSettings, &Hit, &Material, Vec3) =
+            ($scene, $settings, $x, $bsdf, $wo);
+        let frame = Frame::from_normal(x.point.n);
+        let point = ShadingPoint { p: x.point.p, n: x.point.n, wo, bsdf: *bsdf };
+        let wo = frame.to_local(wo);
+        // On the microcontrollers the selection by contribution reads a copy of the point: lent
+        // to the out-of-line selection, `point` itself would be built apart and copied into the
+        // struct after (some 100 instructions per shading point on the M4F). The other
+        // selections take no copy (6 instructions on the M4F), nor does x86, where it would cost.
+        let lights = light_sampler(scene, settings);
+        let selection = if cfg!(target_os = "none") && lights.selects_locally() {
+            let copy = point;
+            lights.selection_in(&copy, &frame, wo)
+        } else {
+            lights.selection_in(&point, &frame, wo)
+        };
+        let control_variate =
+            settings.control_variate() == ControlVariate::On && matches!(bsdf, Material::Lambertian { .. });
+        let (covered, unoccluded) =
+            if control_variate { analytic::unoccluded_light(scene, bsdf, x, wo.z) } else { (0, Rgb::ZERO) };
+        Shading { x, bsdf, frame, wo, point, selection, control_variate, covered, unoccluded }
+    }};
+}
+
 /// A shading point as the techniques see it: the BSDF, the local frame and `wo` in it, and the
 /// light selection there (`L`: the scene's light capacity).
 #[derive(Clone, Debug)]
@@ -272,10 +307,13 @@ impl<'a, const L: usize> Shading<'a, L> {
         x: &'a Hit,
         wo: Vec3,
     ) -> Option<Self> {
-        Some(Self::with_bsdf(scene, settings, x, reflecting(scene, x)?, wo))
+        let bsdf = reflecting(scene, x)?;
+        Some(shading!(scene, settings, x, bsdf, wo))
     }
 
-    /// [`Shading::new`] for the shading point's (non-black) material `bsdf`.
+    /// [`Shading::new`] for the shading point's (non-black) material `bsdf` (see
+    /// [`estimate_direct`]).
+    #[cfg(target_os = "none")]
     #[inline]
     fn with_bsdf<const S: usize, const M: usize>(
         scene: &'a Scene<S, L, M>,
@@ -284,25 +322,7 @@ impl<'a, const L: usize> Shading<'a, L> {
         bsdf: &'a Material,
         wo: Vec3,
     ) -> Self {
-        let frame = Frame::from_normal(x.point.n);
-        let point = ShadingPoint { p: x.point.p, n: x.point.n, wo, bsdf: *bsdf };
-        let wo = frame.to_local(wo);
-        // On the microcontrollers the selection by contribution reads a copy of the point: lent
-        // to the out-of-line selection, `point` itself would be built apart and copied into the
-        // struct after (some 100 instructions per shading point on the M4F). The other
-        // selections take no copy (6 instructions on the M4F), nor does x86, where it would cost.
-        let lights = light_sampler(scene, settings);
-        let selection = if cfg!(target_os = "none") && lights.selects_locally() {
-            let copy = point;
-            lights.selection_in(&copy, &frame, wo)
-        } else {
-            lights.selection_in(&point, &frame, wo)
-        };
-        let control_variate =
-            settings.control_variate() == ControlVariate::On && matches!(bsdf, Material::Lambertian { .. });
-        let (covered, unoccluded) =
-            if control_variate { analytic::unoccluded_light(scene, bsdf, x, wo.z) } else { (0, Rgb::ZERO) };
-        Shading { x, bsdf, frame, wo, point, selection, control_variate, covered, unoccluded }
+        shading!(scene, settings, x, bsdf, wo)
     }
 
     /// `f` of the shadow and BSDF rays from here, with the origin terms their queries need: with
