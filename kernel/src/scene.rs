@@ -562,10 +562,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// elsewhere, or to other points, the answer may differ: use [`Scene::unoccluded`].
     #[inline]
     pub fn shadow_unoccluded(&self, ray: &Ray, t_max: f32, receiver: ShapeId, light: LightId) -> bool {
-        let emitter = match self.light(light) {
-            Some(Light::Area { shape, .. }) => Some(*shape),
-            _ => None,
-        };
+        let emitter = self.light(light).and_then(Light::shape);
         self.with_rays_from(ray.origin, |from| {
             self.unoccluded_from(from, ray.dir, t_max, receiver, emitter, Some(light))
         })

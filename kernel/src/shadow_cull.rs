@@ -299,6 +299,7 @@ mod tests {
     use super::*;
     use crate::math::Vec2;
     use crate::rng::Sampler;
+    use crate::sampling::sample_uniform_sphere;
     use crate::shape::Ray;
 
     fn quad(p0: Vec3, e1: Vec3, e2: Vec3) -> Shape {
@@ -309,12 +310,7 @@ mod tests {
     fn point_of(shape: &Shape, u: Vec2, w: f32) -> Vec3 {
         match shape.corners() {
             Some(p) => p[0] + (p[1] - p[0]) * u.x + (p[3] - p[0]) * u.y,
-            None => {
-                let z = 1.0 - 2.0 * u.x;
-                let r = (1.0 - z * z).max(0.0).sqrt();
-                let phi = 2.0 * core::f32::consts::PI * u.y;
-                shape.centroid() + Vec3::new(r * phi.cos(), r * phi.sin(), z) * (shape.bounding_radius() * w)
-            }
+            None => shape.centroid() + sample_uniform_sphere(u) * (shape.bounding_radius() * w),
         }
     }
 
