@@ -50,7 +50,7 @@ impl Convex {
     pub fn of_shape(shape: &Shape) -> Self {
         match shape.corners() {
             Some(p) => {
-                let normal = try_normalize((p[1] - p[0]).cross(p[3] - p[0])).unwrap_or(Vec3::ZERO);
+                let normal = shape.normal_at(p[0]);
                 let extent = p.iter().fold(0.0f32, |m, p| m.max(p.abs().max_element()));
                 Convex { points: p, count: 4, radius: 0.0, normal, extent }
             }
@@ -373,14 +373,14 @@ mod tests {
     }
 
     /// Shapes, the first `n` of them in the scene, and lights on some of them, the first `m`.
-    struct Some8<'a> {
+    struct TestSets<'a> {
         shapes: &'a [Shape],
         n: usize,
         lights: &'a [usize],
         m: usize,
     }
 
-    impl Sets for Some8<'_> {
+    impl Sets for TestSets<'_> {
         fn shapes(&self) -> usize {
             self.n
         }
@@ -401,7 +401,7 @@ mod tests {
         let mut rng = Sampler::new(3, 1, 1);
         let shapes: [Shape; 8] = core::array::from_fn(|_| random_shape(&mut rng));
         let lights = [1usize, 4, 6];
-        let sets = |n, m| Some8 { shapes: &shapes, n, lights: &lights, m };
+        let sets = |n, m| TestSets { shapes: &shapes, n, lights: &lights, m };
         // All shapes first, then the lights.
         let mut a = ShadowCull::<8, 3>::new(Vec3::ZERO);
         for i in 0..8 {
