@@ -130,6 +130,22 @@ def main():
         agg[(short(s)[:50], f[:60] + ' ' + loc)] += n
     for (s, w), n in agg.most_common(top):
         print(f'{n:10d}  {s:50s} <- {w}')
+    print('\n== innermost function and source file, with the library routines it calls charged to it')
+    by_fn, by_file = collections.Counter(), collections.Counter()
+    for a, n in counts.items():
+        if not LIBRARY.search(symbol(a)):
+            f, loc = chains[a][0]
+            by_fn[f] += n
+            by_file[loc.split(':')[0]] += n
+    for a, n in charged.items():
+        if a is not None:
+            f, loc = chains.get(a, [('?', '?')])[0]
+            by_fn[f] += n
+            by_file[loc.split(':')[0]] += n
+    for c in (by_fn, by_file):
+        for k, v in c.most_common(top):
+            print(f'{v:12d} {100 * v / total:5.1f}%  {k}')
+        print()
     if charge:
         def through(a):
             return any(loc.split(':')[0] in charge for _, loc in chains.get(a, []))
