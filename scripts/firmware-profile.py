@@ -11,7 +11,8 @@ reads QEMU's execution log instead).
 Prints executed instructions per innermost (inlined) function, per outermost function and per
 source line (addr2line -i), per symbol with its calls and instructions per call (from the
 symbol table: right for assembly routines too, which have no line information), then the call
-sites of out-of-line functions. With `--charge shape.rs,accel.rs,scene.rs`, also the instructions
+sites of out-of-line functions, then each innermost function and source file with the library
+routines it calls charged to it (what a kernel function costs on a core without an FPU). With `--charge shape.rs,accel.rs,scene.rs`, also the instructions
 spent in those source files anywhere on the inline chain, with the library routines they call
 (soft float, libm, memcpy) charged to them: e.g. the ray queries' share (the firmware renders the
 film twice, once for the framebuffer and once for the HDR digest: divide by twice its pixels for
@@ -132,16 +133,11 @@ def main():
         print(f'{n:10d}  {s:50s} <- {w}')
     print('\n== innermost function and source file, with the library routines it calls charged to it')
     by_fn, by_file = collections.Counter(), collections.Counter()
-    for a, n in counts.items():
-        if not LIBRARY.search(symbol(a)):
-            f, loc = chains[a][0]
-            by_fn[f] += n
-            by_file[loc.split(':')[0]] += n
-    for a, n in charged.items():
-        if a is not None:
-            f, loc = chains.get(a, [('?', '?')])[0]
-            by_fn[f] += n
-            by_file[loc.split(':')[0]] += n
+    own = [(a, n) for a, n in counts.items() if not LIBRARY.search(symbol(a))]
+    for a, n in own + [(a, n) for a, n in charged.items() if a is not None]:
+        f, loc = chains.get(a, [('?', '?')])[0]
+        by_fn[f] += n
+        by_file[loc.split(':')[0]] += n
     for c in (by_fn, by_file):
         for k, v in c.most_common(top):
             print(f'{v:12d} {100 * v / total:5.1f}%  {k}')
