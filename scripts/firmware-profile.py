@@ -9,15 +9,16 @@ reads QEMU's execution log instead).
     scripts/firmware-profile.py qemu.log ELF [TOP] [--charge FILE,FILE...]
 
 Prints executed instructions per innermost (inlined) function, per outermost function and per
-source line (addr2line -i), per symbol with its calls and instructions per call (from the
-symbol table: right for assembly routines too, which have no line information), then the call
-sites of out-of-line functions, then each innermost function and source file with the library
-routines it calls charged to it (what a kernel function costs on a core without an FPU). With `--charge shape.rs,accel.rs,scene.rs`, also the instructions
-spent in those source files anywhere on the inline chain, with the library routines they call
-(soft float, libm, memcpy) charged to them: e.g. the ray queries' share (the firmware renders the
-film twice, once for the framebuffer and once for the HDR digest: divide by twice its pixels for
-a figure per camera sample). Keep the film tiny:
-the log holds one line per executed translation block. Needs arm-none-eabi-addr2line and -nm.
+source line (addr2line -i), per symbol with its calls and instructions per call (from the symbol
+table: right for assembly routines too, which have no line information), then the call sites of
+out-of-line functions, then each innermost function and source file with the library routines it
+calls charged to it (what a kernel function costs on a core without an FPU). With `--charge
+shape.rs,accel.rs,scene.rs`, also the instructions spent in those source files anywhere on the
+inline chain, with the library routines they call (soft float, libm, memcpy) charged to them:
+e.g. the ray queries' share (the firmware renders the film twice, once for the framebuffer and
+once for the HDR digest: divide by twice its pixels for a figure per camera sample). Keep the
+film tiny: the log holds one line per executed translation block. Needs arm-none-eabi-addr2line
+and -nm.
 """
 import bisect
 import collections
@@ -111,10 +112,14 @@ def main():
         lines[c[0][0] + ' @ ' + c[0][1]] += n
     total = sum(counts.values())
     print(f'total instructions {total}')
-    for title, c in (('innermost (inlined) function', inner), ('outermost function', outer), ('source line', lines)):
+
+    def show(title, c):
         print(f'\n== {title}')
         for k, v in c.most_common(top):
             print(f'{v:12d} {100 * v / total:5.1f}%  {k}')
+
+    for title, c in (('innermost (inlined) function', inner), ('outermost function', outer), ('source line', lines)):
+        show(title, c)
     per_symbol, entered = collections.Counter(), collections.Counter()
     for a, n in counts.items():
         per_symbol[symbol(a)] += n
@@ -131,17 +136,14 @@ def main():
         agg[(short(s)[:50], f[:60] + ' ' + loc)] += n
     for (s, w), n in agg.most_common(top):
         print(f'{n:10d}  {s:50s} <- {w}')
-    print('\n== innermost function and source file, with the library routines it calls charged to it')
     by_fn, by_file = collections.Counter(), collections.Counter()
     own = [(a, n) for a, n in counts.items() if not LIBRARY.search(symbol(a))]
     for a, n in own + [(a, n) for a, n in charged.items() if a is not None]:
         f, loc = chains.get(a, [('?', '?')])[0]
         by_fn[f] += n
         by_file[loc.split(':')[0]] += n
-    for c in (by_fn, by_file):
-        for k, v in c.most_common(top):
-            print(f'{v:12d} {100 * v / total:5.1f}%  {k}')
-        print()
+    show('innermost function, with the library routines it calls charged to it', by_fn)
+    show('source file, with the library routines it calls charged to it', by_file)
     if charge:
         def through(a):
             return any(loc.split(':')[0] in charge for _, loc in chains.get(a, []))
