@@ -18,7 +18,8 @@ inline chain, with the library routines they call (soft float, libm, memcpy) cha
 e.g. the ray queries' share (the firmware renders the film twice, once for the framebuffer and
 once for the HDR digest: divide by twice its pixels for a figure per camera sample). Keep the
 film tiny: the log holds one line per executed translation block. Needs arm-none-eabi-addr2line
-and -nm.
+and -nm for Arm builds, llvm-addr2line and llvm-nm for RISC-V ones (qemu-system-riscv32 -machine
+sifive_e, same flags).
 """
 import bisect
 import collections
@@ -38,6 +39,13 @@ def short(s):
     return s[:90]
 
 
+def binutils(elf):
+    """The prefix of the nm and addr2line that read this ELF: GNU Arm's, or LLVM's for RISC-V."""
+    with open(elf, 'rb') as f:
+        header = f.read(20)
+    return 'llvm-' if header[18:20] == b'\xf3\x00' else 'arm-none-eabi-'
+
+
 def main():
     args = sys.argv[1:]
     charge = []
@@ -48,10 +56,12 @@ def main():
     log, elf = args[0], args[1]
     top = int(args[2]) if len(args) > 2 else 30
     syms, ranges = {}, []
-    nm = subprocess.run(['arm-none-eabi-nm', '-C', '-S', '--defined-only', elf], capture_output=True, text=True)
+    tools = binutils(elf)
+    nm = subprocess.run([tools + 'nm', '-C', '-S', '--defined-only', elf], capture_output=True, text=True)
     for line in nm.stdout.splitlines():
         p = line.split(' ', 3)
-        if len(p) == 4 and p[2] in 'tTwW':
+        # (llvm-nm also lists the assembler's local labels, .L*, which are not functions)
+        if len(p) == 4 and p[2] in 'tTwW' and not p[3].startswith('.L'):
             start = int(p[0], 16) & ~1
             syms[start] = p[3]
             ranges.append((start, start + int(p[1], 16), p[3]))
@@ -93,7 +103,7 @@ def main():
                 else:
                     site = block[-1]
     pcs = sorted(set(counts) | {a for (_, a) in calls})
-    out = subprocess.run(['arm-none-eabi-addr2line', '-a', '-f', '-i', '-C', '-e', elf] + [hex(p) for p in pcs],
+    out = subprocess.run([tools + 'addr2line', '-a', '-f', '-i', '-C', '-e', elf] + [hex(p) for p in pcs],
                          capture_output=True, text=True).stdout.splitlines()
     chains, i = {}, 0
     while i < len(out):
