@@ -36,6 +36,20 @@ const BOARDS: [Board; 3] = [
     Board { name: "fe310", memory: "fe310.x", qemu_machine: "sifive_e", width: 64, height: 48 },
 ];
 
+/// The soft-float routines of src/softfloat/rv32.s (`__wrap_<name>`), linked over the library's.
+const RV32_SOFT_FLOAT: [&str; 10] = [
+    "__addsf3",
+    "__subsf3",
+    "__mulsf3",
+    "__eqsf2",
+    "__nesf2",
+    "__ltsf2",
+    "__lesf2",
+    "__gtsf2",
+    "__gesf2",
+    "__unordsf2",
+];
+
 fn var(name: &str) -> Option<String> {
     println!("cargo:rerun-if-env-changed={name}");
     env::var(name).ok().filter(|v| !v.trim().is_empty())
@@ -91,6 +105,14 @@ fn run() -> Result<(), BoxError> {
     println!("cargo:rustc-link-arg-bins=-Tlink.x");
     if env::var_os("CARGO_FEATURE_RTT").is_some() {
         println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
+    }
+    // RV32 without the F extension: the compiler's soft-float calls go to src/softfloat/rv32.s,
+    // which reaches compiler-builtins' own routines as __real_<name>.
+    let features = env::var("CARGO_CFG_TARGET_FEATURE").unwrap_or_default();
+    if target.starts_with("riscv32") && !features.split(',').any(|f| f == "f") {
+        for symbol in RV32_SOFT_FLOAT {
+            println!("cargo:rustc-link-arg-bins=--wrap={symbol}");
+        }
     }
 
     // Scene.

@@ -6,10 +6,10 @@
 //! near the subnormal boundary and near overflow, subnormal operands, and every pair of special
 //! values (signed zeros, infinities, quiet and signalling NaNs, extreme normals and subnormals).
 //!
-//! For each pair the add, sub, mul, the five ordered comparisons and a 64-bit integer multiply
-//! (`__aeabi_lmul`, used by the random number generator) are folded into FNV-1a
-//! digests (a NaN result counts as one canonical NaN: x86 and Arm produce different NaN bit
-//! patterns for `inf - inf`). The host computes the same digests with its own f32
+//! For each pair the add, sub, mul, the seven comparisons (the five ordered ones, not-equal and
+//! unordered) and a 64-bit integer multiply (`__aeabi_lmul`, used by the random number
+//! generator) are folded into FNV-1a digests (a NaN result counts as one canonical NaN: x86
+//! and Arm produce different NaN bit patterns for `inf - inf`). The host computes the same digests with its own f32
 //! (`picomis-firmware softfloat-digest`) and `scripts/firmware.sh test` compares the two lines.
 //! On the target the check also compares every result, NaN bits included, with
 //! compiler-builtins' own routines and counts the mismatches, and also checks the u32 -> f32
@@ -262,13 +262,15 @@ pub fn canonical(bits: u32) -> u32 {
     if (bits << 1) > 0xff00_0000 { 0x7fc0_0000 } else { bits }
 }
 
-/// The five ordered comparisons as bits: eq, lt, le, gt, ge.
+/// The comparisons as bits: eq, lt, le, gt, ge, ne and unordered (a NaN among them).
 pub fn compare_bits(a: f32, b: f32) -> u32 {
     u32::from(a == b)
         | u32::from(a < b) << 1
         | u32::from(a <= b) << 2
         | u32::from(a > b) << 3
         | u32::from(a >= b) << 4
+        | u32::from(a != b) << 5
+        | u32::from(a.is_nan() || b.is_nan()) << 6
 }
 
 /// FNV-1a digests of the results, one per operation (`lmul`: the 64-bit integer multiply,
@@ -408,15 +410,29 @@ pub fn wide(i: u32, a: u32, b: u32) -> (u64, u64) {
 /// comparison with compiler-builtins' own routines.
 #[cfg(target_os = "none")]
 pub fn run() -> u32 {
+    // compiler-builtins' routines (on RV32IMC the linker's --wrap gives them the __real_ prefix:
+    // their own names lead to ours, see build.rs).
     unsafe extern "C" {
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___addsf3")]
         fn __addsf3(a: f32, b: f32) -> f32;
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___subsf3")]
         fn __subsf3(a: f32, b: f32) -> f32;
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___mulsf3")]
         fn __mulsf3(a: f32, b: f32) -> f32;
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___eqsf2")]
         fn __eqsf2(a: f32, b: f32) -> i32;
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___ltsf2")]
         fn __ltsf2(a: f32, b: f32) -> i32;
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___lesf2")]
         fn __lesf2(a: f32, b: f32) -> i32;
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___gtsf2")]
         fn __gtsf2(a: f32, b: f32) -> i32;
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___gesf2")]
         fn __gesf2(a: f32, b: f32) -> i32;
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___nesf2")]
+        fn __nesf2(a: f32, b: f32) -> i32;
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___unordsf2")]
+        fn __unordsf2(a: f32, b: f32) -> i32;
         fn __muldi3(a: u64, b: u64) -> u64;
         fn __divsf3(a: f32, b: f32) -> f32;
         fn __floatunsisf(a: u32) -> f32;
@@ -463,7 +479,9 @@ pub fn run() -> u32 {
                     | u32::from(__ltsf2(x, y) < 0) << 1
                     | u32::from(__lesf2(x, y) <= 0) << 2
                     | u32::from(__gtsf2(x, y) > 0) << 3
-                    | u32::from(__gesf2(x, y) >= 0) << 4,
+                    | u32::from(__gesf2(x, y) >= 0) << 4
+                    | u32::from(__nesf2(x, y) != 0) << 5
+                    | u32::from(__unordsf2(x, y) != 0) << 6,
             ]
         };
         let (p, q) = wide(i, a, b);

@@ -93,8 +93,14 @@ mod fpcheck;
 mod measure;
 #[cfg(all(target_os = "none", feature = "qemu"))]
 mod semihosting;
-// Hand-written soft float for Arm cores without an FPU (thumbv6m: Cortex-M0).
-#[cfg(all(target_os = "none", target_arch = "arm", target_abi = "eabi"))]
+// Hand-written soft float for cores without an FPU (thumbv6m: Cortex-M0; RV32IMC).
+#[cfg(all(
+    target_os = "none",
+    any(
+        all(target_arch = "arm", target_abi = "eabi"),
+        all(target_arch = "riscv32", not(target_feature = "f"))
+    )
+))]
 mod softfloat;
 #[cfg(target_os = "none")]
 mod stack;
