@@ -37,10 +37,12 @@ const BOARDS: [Board; 3] = [
 ];
 
 /// The soft-float routines of src/softfloat/rv32.s (`__wrap_<name>`), linked over the library's.
-const RV32_SOFT_FLOAT: [&str; 10] = [
+const RV32_SOFT_FLOAT: [&str; 12] = [
     "__addsf3",
     "__subsf3",
     "__mulsf3",
+    "__divsf3",
+    "__floatunsisf",
     "__eqsf2",
     "__nesf2",
     "__ltsf2",

@@ -434,7 +434,9 @@ pub fn run() -> u32 {
         #[cfg_attr(target_arch = "riscv32", link_name = "__real___unordsf2")]
         fn __unordsf2(a: f32, b: f32) -> i32;
         fn __muldi3(a: u64, b: u64) -> u64;
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___divsf3")]
         fn __divsf3(a: f32, b: f32) -> f32;
+        #[cfg_attr(target_arch = "riscv32", link_name = "__real___floatunsisf")]
         fn __floatunsisf(a: u32) -> f32;
     }
     let mut mismatches = 0u32;

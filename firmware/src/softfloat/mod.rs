@@ -4,11 +4,12 @@
 //! `__aeabi_fcmp{eq,lt,le,gt,ge}`, the conversion `__aeabi_ui2f` and the 64-bit integer multiply
 //! `__aeabi_lmul` (used by the random number generator): `m0.s`.
 //!
-//! On RV32IMC (no F extension; `rv32.s`), the add, subtract, multiply and the comparisons
-//! `__{eq,ne,lt,le,gt,ge,unord}sf2`. compiler-builtins names them `__addsf3` and so on only, so
+//! On RV32IMC (no F extension; `rv32.s`), the add, subtract, multiply, division (`m0.s`'s
+//! algorithm, step for step), the comparisons `__{eq,ne,lt,le,gt,ge,unord}sf2` and the
+//! conversion `__floatunsisf`. compiler-builtins names them `__addsf3` and so on only, so
 //! `build.rs` links with `--wrap`: the compiler's calls reach `__wrap___addsf3`, whose rare cases
-//! go on to `__real___addsf3`, the library's. An add averages about 35 instructions and a multiply
-//! about 35 on Veach (compiler-builtins: 55 and 43).
+//! go on to `__real___addsf3`, the library's. On Veach an add averages about 35 instructions, a
+//! multiply about 35 and a division 61 (compiler-builtins: 55, 43 and 92).
 //!
 //! Results are IEEE-754 binary32 with round to nearest, ties to even, bit for bit what the host's
 //! f32 gives (and what compiler-builtins gives, NaN payloads included):

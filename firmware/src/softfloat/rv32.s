@@ -175,6 +175,140 @@ __wrap___mulsf3:
     .size __wrap___mulsf3, . - __wrap___mulsf3
 
 # ---------------------------------------------------------------------------------------------
+# float __wrap___divsf3(float a, float b): the algorithm of m0.s's __aeabi_fdiv, step for step
+# (the same 128-entry reciprocal table, Newton step, two digit steps and one correction, each
+# product and remainder modulo 2^32 as MULS computes them there), so the error bound that
+# fdiv_proof.rs proves for that routine holds here too. With A = 1.fa and B = 1.fb as 24-bit
+# integers (A doubled when A < B), Q' = floor(A 2^24 / B) has 25 bits and is never exactly
+# halfway, so rounding to nearest is (Q' + 1) >> 1.
+    .section .text.picomis_rv_fdiv,"ax",@progbits
+    .globl __wrap___divsf3
+    .type __wrap___divsf3, @function
+    .balign 2
+__wrap___divsf3:
+    slli t0, a0, 1
+    slli t1, a1, 1
+    srli t2, t0, 24
+    srli t3, t1, 24
+    addi t3, t3, -1             # eb - 1 (b zero, subnormal, infinite or NaN: the library)
+    li a3, 253
+    bgtu t3, a3, .Lfdiv_lib
+    addi t2, t2, -1             # ea - 1
+    bgtu t2, a3, .Lfdiv_aspecial
+    sub t2, t2, t3              # ea - eb
+    lui t6, 0x800               # 2^23, the implicit one
+    slli t4, a0, 9
+    srli t4, t4, 9
+    or t4, t4, t6               # A = 1.fa
+    slli t5, a1, 9
+    srli t5, t5, 9
+    or t5, t5, t6               # B = 1.fb, in [2^23, 2^24)
+    xor a2, a0, a1
+    srli a2, a2, 31
+    slli a2, a2, 31             # the quotient's sign
+    bgeu t4, t5, 1f
+    slli t4, t4, 1              # A < B: 2A, in (B, 2B), and the exponent one lower
+    addi t2, t2, -1
+1:  addi t2, t2, 126            # e - 1, e = ea - eb + 127 the result's biased exponent
+    bgtu t2, a3, .Lfdiv_lib     # subnormal or overflowing result
+    srli t0, t5, 16             # 128 + i
+    slli t0, t0, 1
+    la t1, .Lfdiv_recip
+    add t0, t0, t1
+    lhu t0, -256(t0)            # X0 = 2^24 / (257 + 2i)
+    srli t1, t5, 8
+    addi t1, t1, 1              # b16, in (2^15, 2^16]
+    mul t1, t0, t1              # P = X0 b16 < 2^32
+    lui t3, 0x80000
+    sub t1, t3, t1              # E = 2^31 - P, |E| < 2^23
+    srai t1, t1, 8
+    mul t1, t0, t1
+    srai t1, t1, 23
+    add t0, t0, t1              # X <= 2^39 / B
+    srli t1, t4, 9
+    mul t1, t1, t0
+    srli t1, t1, 16             # q1 = floor((A >> 9) X / 2^16) < 2^15
+    slli t3, t4, 14
+    mul a4, t1, t5
+    sub t3, t3, a4              # r1 = A 2^14 - q1 B, in [0, 2^27): exact mod 2^32
+    srli a4, t3, 11
+    mul a4, a4, t0
+    srli a4, a4, 18             # q2
+    slli t1, t1, 10
+    add t1, t1, a4              # Q = q1 2^10 + q2 <= Q'
+    mul a4, a4, t5
+    slli t3, t3, 10
+    sub t3, t3, a4              # R = A 2^24 - Q B, in [0, 2B): exact mod 2^32
+    sltu a4, t3, t5             # R < B: Q' = Q, else Q + 1
+    sub t1, t1, a4
+    addi t1, t1, 2              # Q' + 1
+    srli t1, t1, 1              # 1.f in [2^23, 2^24]: 2^24 carries into the exponent, up to infinity
+    slli t2, t2, 23
+    add t1, t1, t2
+    or a0, a2, t1
+    ret
+.Lfdiv_aspecial:
+    bnez t0, .Lfdiv_lib         # a subnormal, infinite or NaN
+    xor a0, a0, a1              # 0 / normal = signed 0
+    srli a0, a0, 31
+    slli a0, a0, 31
+    ret
+.Lfdiv_lib:
+    tail __real___divsf3
+    .size __wrap___divsf3, . - __wrap___divsf3
+
+    .section .rodata.picomis_rv_fdiv,"a",@progbits
+    .balign 2
+.Lfdiv_recip:
+    .set i, 0
+    .rept 128
+    .hword 16777216 / (257 + 2 * i)
+    .set i, i + 1
+    .endr
+
+# ---------------------------------------------------------------------------------------------
+# float __wrap___floatunsisf(unsigned a): rounded to nearest, ties to even. The leading one is
+# moved to bit 31 in steps of 16, 8, 4, 2 and 1 (RV32IMC has no count of leading zeros), then
+# packed and rounded like the other routines. Complete: no case for the library.
+    .section .text.picomis_rv_ui2f,"ax",@progbits
+    .globl __wrap___floatunsisf
+    .type __wrap___floatunsisf, @function
+    .balign 2
+__wrap___floatunsisf:
+    beqz a0, 9f                 # 0 -> +0
+    li t0, 157                  # e - 1 for a leading one at bit 31 (e = 127 + 31)
+    srli t1, a0, 16
+    bnez t1, 1f
+    slli a0, a0, 16
+    addi t0, t0, -16
+1:  srli t1, a0, 24
+    bnez t1, 2f
+    slli a0, a0, 8
+    addi t0, t0, -8
+2:  srli t1, a0, 28
+    bnez t1, 3f
+    slli a0, a0, 4
+    addi t0, t0, -4
+3:  srli t1, a0, 30
+    bnez t1, 4f
+    slli a0, a0, 2
+    addi t0, t0, -2
+4:  bltz a0, 5f
+    slli a0, a0, 1
+    addi t0, t0, -1
+5:  srli t1, a0, 8              # 1.f, 24 bits
+    slli t0, t0, 23
+    add t1, t1, t0              # exponent | fraction, truncated
+    andi t2, a0, 0xff           # round bit (7) and sticky bits
+    andi t3, t1, 1
+    add t2, t2, t3              # above 0x80: round up
+    addi t2, t2, 0x7f
+    srli t2, t2, 8
+    add a0, t1, t2
+9:  ret
+    .size __wrap___floatunsisf, . - __wrap___floatunsisf
+
+# ---------------------------------------------------------------------------------------------
 # The comparisons, as compiler-builtins defines them: -1, 0 or 1 for less, equal (+0 == -0) or
 # greater; unordered (a NaN operand) gives 1 for __lesf2, __ltsf2, __eqsf2 and __nesf2, and -1
 # for __gesf2 and __gtsf2; __unordsf2 is 1 when either is a NaN, else 0. Both operands
