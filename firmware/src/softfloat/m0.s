@@ -354,11 +354,7 @@ __aeabi_fdiv:
     .word .Lfdiv_recip - 256    @ indexed by (B >> 16) in [128, 256), two bytes an entry
 9:  .word __divsf3
 .Lfdiv_recip:
-    .set i, 0
-    .rept 128
-    .hword 16777216 / (257 + 2 * i)
-    .set i, i + 1
-    .endr
+    FDIV_RECIPROCALS
     .size __aeabi_fdiv, . - __aeabi_fdiv
 
 @ ---------------------------------------------------------------------------------------------

@@ -29,6 +29,6 @@
 //! `scripts/firmware.sh test`).
 
 #[cfg(target_arch = "arm")]
-core::arch::global_asm!(include_str!("m0.s"), options(raw));
+core::arch::global_asm!(concat!(include_str!("fdiv_recip.s"), include_str!("m0.s")), options(raw));
 #[cfg(target_arch = "riscv32")]
-core::arch::global_asm!(include_str!("rv32.s"), options(raw));
+core::arch::global_asm!(concat!(include_str!("fdiv_recip.s"), include_str!("rv32.s")), options(raw));

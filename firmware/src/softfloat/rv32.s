@@ -260,11 +260,7 @@ __wrap___divsf3:
     .section .rodata.picomis_rv_fdiv,"a",@progbits
     .balign 2
 .Lfdiv_recip:
-    .set i, 0
-    .rept 128
-    .hword 16777216 / (257 + 2 * i)
-    .set i, i + 1
-    .endr
+    FDIV_RECIPROCALS            # fdiv_recip.s
 
 # ---------------------------------------------------------------------------------------------
 # float __wrap___floatunsisf(unsigned a): rounded to nearest, ties to even. The leading one is
