@@ -138,6 +138,44 @@ fn div_floor(n: i64, d: i64) -> i64 {
     i64::from(w)
 }
 
+/// floor(n / d) for 0 <= n < 2^31 d and 1 <= d <= 2^31, as [`div_floor`], from two 32-by-16-bit
+/// digit divisions (Knuth's algorithm D for two digits of 16 bits, after Hacker's Delight's
+/// `divlu`): for 32-bit cores that divide 32-bit integers in one instruction (RV32IM's `divu`),
+/// where the 64-bit division is compiler-builtins' `u64_div_rem` (about 340 instructions on
+/// RV32IMC) and the bit loop about 230. d is shifted up until its top bit is set, so that each
+/// digit's estimate from the divisor's top 16 bits is at most two too large and the corrections
+/// end. Outside the bounds, the 64-bit division.
+#[inline]
+fn div_floor_digits(n: i64, d: i64) -> i64 {
+    if !(n >= 0 && (1..=1 << 31).contains(&d) && n >> 31 < d) {
+        return n.checked_div(d).unwrap_or(0);
+    }
+    const B: u32 = 1 << 16;
+    let (hi, lo, d) = ((n >> 32) as u32, n as u32, d as u32); // hi < d: the quotient fits 32 bits
+    let s = d.leading_zeros();
+    let v = d << s;
+    // The dividend shifted by s too: 64 bits (un32, un10), un32 < v.
+    let un32 = if s == 0 { hi } else { (hi << s) | (lo >> (32 - s)) };
+    let un10 = lo << s;
+    let (vn1, vn0) = (v >> 16, v & 0xffff);
+    // One quotient digit of (top, next) / v with top < v: the estimate from v's top half, made
+    // exact by at most two decrements; its remainder fits 32 bits.
+    let digit = |top: u32, next: u32| {
+        let (mut q, mut rhat) = (top / vn1, top % vn1);
+        while q >= B || q * vn0 > (rhat << 16 | next) {
+            q -= 1;
+            rhat += vn1;
+            if rhat >= B {
+                break;
+            }
+        }
+        (q, (top << 16 | next).wrapping_sub(q.wrapping_mul(v)))
+    };
+    let (q1, rem) = digit(un32, un10 >> 16);
+    let (q0, _) = digit(rem, un10 & 0xffff);
+    i64::from(q1 << 16 | q0)
+}
+
 /// trunc(x 2^s) for s <= 126 (`None` for NaN) from the bits of x, with no soft-float call:
 /// what `(x * 2^s) as i64` gives for |x 2^s| < 2^40, and +-2^40 beyond (infinities too).
 #[inline]
@@ -279,9 +317,14 @@ fn distance(shape: &FixedShape, r: &FixedRay) -> Option<i64> {
             if an >= r.hi * ad || an < (r.lo + 1) * ad {
                 return None;
             }
-            // The M0 has no divider: `div_floor` there (RV32IMC's 64-bit division uses `divu`
-            // and is cheaper than the loop).
-            let t = if NO_DIVIDER { div_floor(an, ad) } else { an.checked_div(ad)? };
+            // The M0 has no divider: `div_floor` there; other 32-bit cores have a 32-bit one.
+            let t = if NO_DIVIDER {
+                div_floor(an, ad)
+            } else if cfg!(target_pointer_width = "32") {
+                div_floor_digits(an, ad)
+            } else {
+                an.checked_div(ad)?
+            };
             let p0 = wide(p0);
             let q = [
                 r.o[0] + ((r.d[0] * t) >> Q) - p0[0],
@@ -468,11 +511,14 @@ mod tests {
         assert_eq!(trunc_scaled(-1.5, 1), Some(-3));
     }
 
-    /// `div_floor` equals the 64-bit division over its bounds' edges and a random sample of
-    /// them (and outside them too).
+    /// `div_floor` and `div_floor_digits` equal the 64-bit division over their bounds' edges and
+    /// a random sample of them (and outside them too).
     #[test]
     fn div_floor_is_the_division() {
-        let check = |n: i64, d: i64| assert_eq!(div_floor(n, d), n / d, "{n} / {d}");
+        let check = |n: i64, d: i64| {
+            assert_eq!(div_floor(n, d), n / d, "{n} / {d}");
+            assert_eq!(div_floor_digits(n, d), n / d, "digits: {n} / {d}");
+        };
         let ds = [1i64, 2, 3, 5, 0x7fff, 0x1_0000, 0x7fff_ffff, 1 << 30, (1 << 30) + 1, 1 << 31];
         for d in ds {
             let top = (1i64 << 31) * d; // n < top
