@@ -52,11 +52,13 @@ enum FixedShape {
 }
 
 /// A ray in units (origin) and Q30 (direction), with its open distance range `(lo, hi)` in
-/// units.
+/// units. The origin (at most 2^28) and the direction (at most 2^30 + 2^21) fit 32 bits: their
+/// products are one 32 x 32 -> 64-bit multiply each (`mul` and `mulh` on RV32IMC, where a full
+/// 64-bit multiply takes about seven instructions).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct FixedRay {
-    o: [i64; 3],
-    d: [i64; 3],
+    o: [i32; 3],
+    d: [i32; 3],
     lo: i64,
     hi: i64,
 }
@@ -87,6 +89,16 @@ fn wide(v: &[i32; 3]) -> [i64; 3] {
 
 fn dot(a: &[i64; 3], b: &[i64; 3]) -> i64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `a . b` of 32-bit vectors in 64 bits (each product exact).
+fn dot32(a: &[i32; 3], b: &[i32; 3]) -> i64 {
+    dot(&wide(a), &wide(b))
+}
+
+/// `(d b) >> Q` for a direction component and a distance below 2^31 (in 64 bits: exact).
+fn along(d: i32, b: i32) -> i64 {
+    (i64::from(d) * i64::from(b)) >> Q
 }
 
 /// floor(sqrt(x)) for x >= 0 (bit by bit, integer only).
@@ -198,10 +210,10 @@ fn trunc_scaled(x: f32, s: i32) -> Option<i64> {
     Some(if b >> 31 != 0 { -v } else { v })
 }
 
-/// trunc(x 2^s) when its magnitude is at most `max` (`None` for NaN).
+/// trunc(x 2^s) when its magnitude is at most `max` (below 2^31; `None` for NaN).
 #[inline]
-fn bounded(x: f32, s: i32, max: i64) -> Option<i64> {
-    trunc_scaled(x, s).filter(|v| v.abs() <= max)
+fn bounded(x: f32, s: i32, max: i64) -> Option<i32> {
+    trunc_scaled(x, s).filter(|v| v.abs() <= max).map(|v| v as i32)
 }
 
 /// The exponent s of the scale 2^s for `shapes` seen from `camera`.
@@ -279,22 +291,24 @@ fn distance(shape: &FixedShape, r: &FixedRay) -> Option<i64> {
     let inside = |t: i64| t > r.lo && t < r.hi;
     match shape {
         FixedShape::Sphere { c, r: radius, r2 } => {
-            let c = wide(c);
+            // 32 bits each: |f[i]| < 2^28 + 2^27, and |b| <= sum |f[i] d[i]| 2^-30 < 3 (2^28 +
+            // 2^27) (1 + 2^-9) < 2^31.
             let f = [r.o[0] - c[0], r.o[1] - c[1], r.o[2] - c[2]];
-            let b = dot(&f, &r.d) >> Q;
+            let b = (dot32(&f, &r.d) >> Q) as i32;
             // Cheap rejects before the rest: both hits are at or beyond -b - r (h <= r), and a
             // centre behind an origin outside the sphere (a coordinate of f beyond r) is missed.
-            let rad = i64::from(*radius);
-            if -b - rad >= r.hi || (b > 0 && f.iter().any(|x| x.abs() > rad)) {
+            let (b64, rad) = (i64::from(b), i64::from(*radius));
+            if -b64 - rad >= r.hi || (b > 0 && f.iter().any(|&x| i64::from(x).abs() > rad)) {
                 return None;
             }
-            let l = [f[0] - ((r.d[0] * b) >> Q), f[1] - ((r.d[1] * b) >> Q), f[2] - ((r.d[2] * b) >> Q)];
+            let f = wide(&f);
+            let l = [f[0] - along(r.d[0], b), f[1] - along(r.d[1], b), f[2] - along(r.d[2], b)];
             let disc = r2 - dot(&l, &l);
             if disc < 0 {
                 return None;
             }
             let h = isqrt(disc);
-            let (near, far) = (-b - h, -b + h);
+            let (near, far) = (-b64 - h, -b64 + h);
             if inside(near) {
                 Some(near)
             } else if inside(far) {
@@ -304,9 +318,8 @@ fn distance(shape: &FixedShape, r: &FixedRay) -> Option<i64> {
             }
         }
         FixedShape::Quad { p0, n, plane, sa, ta, one } => {
-            let n = wide(n);
-            let denom = dot(&n, &r.d) >> Q;
-            let num = plane - dot(&n, &r.o);
+            let denom = dot32(n, &r.d) >> Q;
+            let num = plane - dot32(n, &r.o);
             if denom == 0 || (num < 0) != (denom < 0) {
                 return None;
             }
@@ -325,11 +338,12 @@ fn distance(shape: &FixedShape, r: &FixedRay) -> Option<i64> {
             } else {
                 an.checked_div(ad)?
             };
-            let p0 = wide(p0);
+            // 0 <= t < hi <= 2^31: 32 bits.
+            let (o, p0, t32) = (wide(&r.o), wide(p0), t as i32);
             let q = [
-                r.o[0] + ((r.d[0] * t) >> Q) - p0[0],
-                r.o[1] + ((r.d[1] * t) >> Q) - p0[1],
-                r.o[2] + ((r.d[2] * t) >> Q) - p0[2],
+                o[0] + along(r.d[0], t32) - p0[0],
+                o[1] + along(r.d[1], t32) - p0[1],
+                o[2] + along(r.d[2], t32) - p0[2],
             ];
             let (s, v) = (dot(&q, &wide(sa)), dot(&q, &wide(ta)));
             // |q| < 2^31.2 (|o| <= 2^28, the step d t below 2^31, |p0| < 2^27) and the axes are
@@ -397,8 +411,9 @@ impl<const S: usize> FixedScene<S> {
     }
 
     /// `ray` with the range `(t_min, t_max)` in fixed point, or `None` when it is outside the
-    /// format's bounds.
-    #[inline]
+    /// format's bounds. (Always inline: returned out of line, the 16 words went through `memcpy`
+    /// on RV32IMC.)
+    #[inline(always)]
     fn ray(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<FixedRay> {
         let (k, q) = (self.shift, Q as i32);
         let o = [
