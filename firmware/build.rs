@@ -108,12 +108,16 @@ fn run() -> Result<(), BoxError> {
     if env::var_os("CARGO_FEATURE_RTT").is_some() {
         println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
     }
-    // RV32 without the F extension: the compiler's soft-float calls go to src/softfloat/rv32.s,
-    // which reaches compiler-builtins' own routines as __real_<name>.
-    let features = env::var("CARGO_CFG_TARGET_FEATURE").unwrap_or_default();
-    if target.starts_with("riscv32") && !features.split(',').any(|f| f == "f") {
-        for symbol in RV32_SOFT_FLOAT {
-            println!("cargo:rustc-link-arg-bins=--wrap={symbol}");
+    // RV32: the compiler's memcpy calls go to src/arch/riscv_memcpy.s, and without the F
+    // extension its soft-float calls to src/softfloat/rv32.s; both reach compiler-builtins' own
+    // routines as __real_<name>.
+    if target.starts_with("riscv32") {
+        println!("cargo:rustc-link-arg-bins=--wrap=memcpy");
+        let features = env::var("CARGO_CFG_TARGET_FEATURE").unwrap_or_default();
+        if !features.split(',').any(|f| f == "f") {
+            for symbol in RV32_SOFT_FLOAT {
+                println!("cargo:rustc-link-arg-bins=--wrap={symbol}");
+            }
         }
     }
 

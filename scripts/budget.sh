@@ -81,6 +81,7 @@ kib() { awk -v b="$1" 'BEGIN { printf "%.1f", b / 1024 }'; }
 # The generated block: table and the sentence on the targets.
 table() {
   local c key name goal head="" sep="" instr="" fixed="" flash="" ram="" stack="" goals="" ratio miss="" meet="" over=""
+  local fratio fixed_status=""
   for c in $CORES; do
     IFS=: read -r key name goal <<<"$c"
     head="$head $name |"
@@ -88,6 +89,12 @@ table() {
     instr="$instr $(commas "$(value "$BUDGET" ${key}_instructions_per_camera_sample)") |"
     if has_fixed "$key"; then
       fixed="$fixed $(commas "$(value "$BUDGET" "${key}_$FIXED_KEY")") |"
+      fratio=$(awk -v a="$(value "$BUDGET" "${key}_$FIXED_KEY")" -v t="$goal" 'BEGIN { printf "%.3f", a / t }')
+      if awk -v r="$fratio" 'BEGIN { exit !(r > 1) }'; then
+        fixed_status="$fixed_status${fixed_status:+, }the $name takes ${fratio}x its $(commas "$goal")"
+      else
+        fixed_status="$fixed_status${fixed_status:+, }the $name meets its $(commas "$goal") (${fratio}x)"
+      fi
     else
       fixed="$fixed (has an FPU) |"
     fi
@@ -119,6 +126,9 @@ table() {
   fi
   if [ -n "$meet" ]; then
     echo "Instruction targets met: $meet."
+  fi
+  if [ -n "$fixed_status" ]; then
+    echo "With the fixed-point ray queries: $fixed_status."
   fi
   if [ -z "$over" ]; then
     echo "Flash text, static RAM and peak stack are within their targets on every core."
