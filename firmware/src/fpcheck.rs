@@ -14,7 +14,8 @@
 //! On the target the check also compares every result, NaN bits included, with
 //! compiler-builtins' own routines and counts the mismatches, and also checks the u32 -> f32
 //! conversion (`__aeabi_ui2f`) against compiler-builtins' `__floatunsisf` on
-//! 2^20 values (every leading-one position, exact ties of both parities).
+//! 2^20 values (every leading-one position, exact ties of both parities), and the count of
+//! leading zeros (the M0's `__clzsi2`) of the same values against a shift loop.
 
 /// Operand pairs checked.
 pub const PAIRS: u32 = 1 << 17;
@@ -524,11 +525,23 @@ pub fn run() -> u32 {
             }
             mismatches += 1;
         }
+        // The leading zeros (the M0's hand-written `__clzsi2`) against a shift loop.
+        let (mut want, mut v) = (32, u);
+        while v != 0 {
+            v >>= 1;
+            want -= 1;
+        }
+        if u.leading_zeros() != want {
+            if mismatches < 8 {
+                info!("softfloat mismatch: leading zeros of {}: ours {} want {}", u, u.leading_zeros(), want);
+            }
+            mismatches += 1;
+        }
     }
     info!(
         "softfloat library comparison: {} mismatches in {} results",
         mismatches,
-        5 * PAIRS + DIV_PAIRS + CONVERSIONS + DOTS
+        5 * PAIRS + DIV_PAIRS + 2 * CONVERSIONS + DOTS
     );
     if mismatches == 0 { 0 } else { 6 }
 }

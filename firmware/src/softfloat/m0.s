@@ -549,3 +549,35 @@ __aeabi_fdiv:
 7:  movs r0, r3
 9:  bx lr
     .size __aeabi_ui2f, . - __aeabi_ui2f
+
+@ ---------------------------------------------------------------------------------------------
+@ int __clzsi2(unsigned a): the leading zeros of a (32 for 0), in 16/8/4/2/1-bit steps (no CLZ
+@ on ARMv6-M; compiler-builtins' takes about 35 instructions). The sampler's numbers in [0, 1)
+@ get their exponent from it (rng.rs, `unit_from_bits`).
+    fbegin __clzsi2
+    movs r1, #32
+    cmp r0, #0
+    beq 9f
+    movs r1, #0
+    lsrs r2, r0, #16
+    bne 1f
+    lsls r0, r0, #16
+    adds r1, r1, #16
+1:  lsrs r2, r0, #24
+    bne 2f
+    lsls r0, r0, #8
+    adds r1, r1, #8
+2:  lsrs r2, r0, #28
+    bne 3f
+    lsls r0, r0, #4
+    adds r1, r1, #4
+3:  lsrs r2, r0, #30
+    bne 4f
+    lsls r0, r0, #2
+    adds r1, r1, #2
+4:  cmp r0, #0
+    blt 9f
+    adds r1, r1, #1
+9:  movs r0, r1
+    bx lr
+    .size __clzsi2, . - __clzsi2

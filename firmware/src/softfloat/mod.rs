@@ -1,8 +1,9 @@
 //! Hand-written single-precision soft-float routines for Arm cores without an FPU (Cortex-M0,
 //! ARMv6-M Thumb-1; the code also runs on ARMv7-M), linked over compiler-builtins' weak
 //! `__aeabi_*` symbols: `__aeabi_fadd`, `__aeabi_fsub`, `__aeabi_fmul`, the comparisons
-//! `__aeabi_fcmp{eq,lt,le,gt,ge}`, the conversion `__aeabi_ui2f` and the 64-bit integer multiply
-//! `__aeabi_lmul` (used by the random number generator): `m0.s`.
+//! `__aeabi_fcmp{eq,lt,le,gt,ge}`, the conversion `__aeabi_ui2f`, the 64-bit integer multiply
+//! `__aeabi_lmul` and the leading-zero count `__clzsi2` (both used by the random number
+//! generator): `m0.s`.
 //!
 //! On RV32IMC (no F extension; `rv32.s`), the add, subtract, multiply, division (`m0.s`'s
 //! algorithm, step for step), the comparisons `__{eq,ne,lt,le,gt,ge,unord}sf2` and the
