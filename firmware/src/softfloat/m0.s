@@ -509,33 +509,42 @@ __aeabi_fdiv:
     .size __aeabi_lmul, . - __aeabi_lmul
 
 @ ---------------------------------------------------------------------------------------------
+@ Shifts \x (non-zero) left until its leading one is at bit 31, in steps of 16, 8, 4, 2 and 1
+@ (no CLZ on ARMv6-M), stepping \n by each shift with \op (`subs`: an exponent; `adds`: a
+@ count). Clobbers r2.
+    .macro leading_one_to_31 x, n, op
+    lsrs r2, \x, #16
+    bne 1f
+    lsls \x, \x, #16
+    \op \n, \n, #16
+1:  lsrs r2, \x, #24
+    bne 2f
+    lsls \x, \x, #8
+    \op \n, \n, #8
+2:  lsrs r2, \x, #28
+    bne 3f
+    lsls \x, \x, #4
+    \op \n, \n, #4
+3:  lsrs r2, \x, #30
+    bne 4f
+    lsls \x, \x, #2
+    \op \n, \n, #2
+4:  cmp \x, #0
+    blt 5f
+    lsls \x, \x, #1
+    \op \n, \n, #1
+5:
+    .endm
+
+@ ---------------------------------------------------------------------------------------------
 @ float __aeabi_ui2f(unsigned a): rounded to nearest, ties to even. The leading one is moved to
-@ bit 31 in steps of 16, 8, 4, 2 and 1 (no CLZ on ARMv6-M), then packed like the other routines.
+@ bit 31 (leading_one_to_31), then packed like the other routines.
     fbegin __aeabi_ui2f
     cmp r0, #0
     beq 9f                      @ 0 -> +0
     movs r1, #157               @ e - 1 for a leading one at bit 31 (e = 127 + 31)
-    lsrs r2, r0, #16
-    bne 1f
-    lsls r0, r0, #16
-    subs r1, r1, #16
-1:  lsrs r2, r0, #24
-    bne 2f
-    lsls r0, r0, #8
-    subs r1, r1, #8
-2:  lsrs r2, r0, #28
-    bne 3f
-    lsls r0, r0, #4
-    subs r1, r1, #4
-3:  lsrs r2, r0, #30
-    bne 4f
-    lsls r0, r0, #2
-    subs r1, r1, #2
-4:  cmp r0, #0
-    blt 5f
-    lsls r0, r0, #1
-    subs r1, r1, #1
-5:  lsrs r3, r0, #8             @ 1.f, 24 bits
+    leading_one_to_31 r0, r1, subs
+    lsrs r3, r0, #8             @ 1.f, 24 bits
     lsls r1, r1, #23
     adds r3, r3, r1             @ exponent | fraction, truncated
     lsls r2, r0, #25            @ C = round bit, r2 = the bits below it
@@ -551,33 +560,15 @@ __aeabi_fdiv:
     .size __aeabi_ui2f, . - __aeabi_ui2f
 
 @ ---------------------------------------------------------------------------------------------
-@ int __clzsi2(unsigned a): the leading zeros of a (32 for 0), in 16/8/4/2/1-bit steps (no CLZ
-@ on ARMv6-M; compiler-builtins' takes about 35 instructions). The sampler's numbers in [0, 1)
+@ int __clzsi2(unsigned a): the leading zeros of a (32 for 0), the shifts of leading_one_to_31
+@ (compiler-builtins' takes about 35 instructions). The sampler's numbers in [0, 1)
 @ get their exponent from it (rng.rs, `unit_from_bits`).
     fbegin __clzsi2
     movs r1, #32
     cmp r0, #0
     beq 9f
     movs r1, #0
-    lsrs r2, r0, #16
-    bne 1f
-    lsls r0, r0, #16
-    adds r1, r1, #16
-1:  lsrs r2, r0, #24
-    bne 2f
-    lsls r0, r0, #8
-    adds r1, r1, #8
-2:  lsrs r2, r0, #28
-    bne 3f
-    lsls r0, r0, #4
-    adds r1, r1, #4
-3:  lsrs r2, r0, #30
-    bne 4f
-    lsls r0, r0, #2
-    adds r1, r1, #2
-4:  cmp r0, #0
-    blt 9f
-    adds r1, r1, #1
+    leading_one_to_31 r0, r1, adds
 9:  movs r0, r1
     bx lr
     .size __clzsi2, . - __clzsi2
