@@ -91,14 +91,42 @@ fn dot(a: &[i64; 3], b: &[i64; 3]) -> i64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// `a b` in 64 bits, exact. On ARMv6-M, which has no 32 x 32 -> 64-bit multiply instruction,
+/// one call to `mul_wide_m0.s` (about 20 instructions) instead of compiler-builtins' 64 x 64-bit
+/// `__aeabi_lmul` on the sign-extended operands.
+#[cfg(all(target_arch = "arm", target_os = "none", target_abi = "eabi"))]
+#[allow(unsafe_code)]
+#[inline(always)]
+fn mul_wide(a: i32, b: i32) -> i64 {
+    unsafe extern "C" {
+        fn picomis_mul_wide(a: i32, b: i32) -> i64;
+    }
+    // SAFETY: the routine reads its two register arguments and writes only r0-r3 and the flags
+    // (r4 is saved and restored), as AAPCS allows.
+    unsafe { picomis_mul_wide(a, b) }
+}
+
+#[cfg(all(target_arch = "arm", target_os = "none", target_abi = "eabi"))]
+#[allow(unsafe_code)]
+mod mul_wide_routine {
+    core::arch::global_asm!(include_str!("mul_wide_m0.s"), options(raw));
+}
+
+/// `a b` in 64 bits, exact.
+#[cfg(not(all(target_arch = "arm", target_os = "none", target_abi = "eabi")))]
+#[inline(always)]
+fn mul_wide(a: i32, b: i32) -> i64 {
+    i64::from(a) * i64::from(b)
+}
+
 /// `a . b` of 32-bit vectors in 64 bits (each product exact).
 fn dot32(a: &[i32; 3], b: &[i32; 3]) -> i64 {
-    dot(&wide(a), &wide(b))
+    mul_wide(a[0], b[0]) + mul_wide(a[1], b[1]) + mul_wide(a[2], b[2])
 }
 
 /// `(d b) >> Q` for a direction component and a distance below 2^31 (in 64 bits: exact).
 fn along(d: i32, b: i32) -> i64 {
-    (i64::from(d) * i64::from(b)) >> Q
+    mul_wide(d, b) >> Q
 }
 
 /// floor(sqrt(x)) for x >= 0 (bit by bit, integer only).
