@@ -9,8 +9,10 @@
 //! For each pair the add, sub, mul, the seven comparisons (the five ordered ones, not-equal and
 //! unordered) and a 64-bit integer multiply (`__aeabi_lmul`, used by the random number
 //! generator) are folded into FNV-1a digests (a NaN result counts as one canonical NaN: x86
-//! and Arm produce different NaN bit patterns for `inf - inf`). The host computes the same digests with its own f32
-//! (`picomis-firmware softfloat-digest`) and `scripts/firmware.sh test` compares the two lines.
+//! and Arm produce different NaN bit patterns for `inf - inf`). The host computes the same
+//! digests with its own f32 (`picomis-firmware softfloat-digest`) and `scripts/firmware.sh test`
+//! compares the two lines: that comparison is independent of the target's library, whose own
+//! routines call the M0's `__clzsi2` too.
 //! On the target the check also compares every result, NaN bits included, with
 //! compiler-builtins' own routines and counts the mismatches, and also checks the u32 -> f32
 //! conversion (`__aeabi_ui2f`) against compiler-builtins' `__floatunsisf` on
