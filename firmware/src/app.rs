@@ -38,15 +38,28 @@ fn fnv1a(data: &[u8]) -> u32 {
     data.iter().fold(0x811c_9dc5u32, |h, &b| (h ^ u32::from(b)).wrapping_mul(0x0100_0193))
 }
 
-fn settings() -> Result<RenderSettings, picomis::SceneError> {
-    let mut s = scene::settings()?;
-    if let Some(spp) = config::SPP {
-        s = s.with_spp(spp)?;
-    }
-    if let Some(seed) = config::SEED {
-        s = s.with_seed(seed);
-    }
-    Ok(s)
+/// The render settings: the scene file's, with the build's sample count and seed. A `static`
+/// evaluated at compile time, so that the render code sees every setting as a constant and the
+/// compiler drops the branches of the methods, models and streams it does not use (on the M4F
+/// 2,064 -> 1,868 instructions per camera sample, the same bits).
+static SETTINGS: Result<RenderSettings, picomis::SceneError> = settings();
+
+const fn settings() -> Result<RenderSettings, picomis::SceneError> {
+    let s = match scene::settings() {
+        Ok(s) => s,
+        Err(e) => return Err(e),
+    };
+    let s = match config::SPP {
+        Some(spp) => match s.with_spp(spp) {
+            Ok(s) => s,
+            Err(e) => return Err(e),
+        },
+        None => s,
+    };
+    Ok(match config::SEED {
+        Some(seed) => s.with_seed(seed),
+        None => s,
+    })
 }
 
 /// The scene, in .bss rather than on the stack.
@@ -102,7 +115,7 @@ fn run() -> u32 {
             return status::SCENE;
         }
     };
-    let settings = match settings() {
+    let settings = match &SETTINGS {
         Ok(s) => s,
         Err(_e) => {
             info!("error: render settings rejected");
@@ -139,7 +152,7 @@ fn run() -> u32 {
     let fb: &mut Fb = unsafe { &mut *ptr::addr_of_mut!(FRAMEBUFFER) };
     let start = clock::ticks();
     let tile = Size::new(config::TILE, config::TILE);
-    let Ok(stats) = picomis::render(scene, &settings, tile, fb, |area, total: &RenderStats| {
+    let Ok(stats) = picomis::render(scene, settings, tile, fb, |area, total: &RenderStats| {
         let right = area.top_left.x as u32 + area.size.width;
         if right >= config::WIDTH {
             let bottom = area.top_left.y as u32 + area.size.height;
@@ -172,10 +185,10 @@ fn run() -> u32 {
     }
 
     #[cfg(feature = "qemu")]
-    crate::digest::report(scene, &settings);
+    crate::digest::report(scene, settings);
 
     #[cfg(feature = "measure")]
-    crate::measure::run(scene, &settings, fb);
+    crate::measure::run(scene, settings, fb);
 
     let (render_peak, size) = stack::peak();
     info!(

@@ -19,7 +19,7 @@ fn v3(v: Vec3) -> String {
 fn method(m: Method) -> String {
     let opt = |v: Option<f32>| v.map_or("None".to_string(), |v| format!("Some({})", f(v)));
     let index = Method::ALL.iter().position(|x| x.name() == m.name()).unwrap_or(0);
-    format!("Method::ALL[{index}] /* {m} */.with_parameters({}, {})?", opt(m.beta()), opt(m.alpha()))
+    format!("Method::ALL[{index}] /* {m} */.with_parameters({}, {})", opt(m.beta()), opt(m.alpha()))
 }
 
 pub(crate) fn module(s: &SceneFile) -> String {
@@ -106,32 +106,34 @@ pub(crate) fn module(s: &SceneFile) -> String {
         }
     }
     let _ = writeln!(o, "    Ok(())\n}}");
+    // A `const fn`: the firmware evaluates it at compile time, so its render sees every setting
+    // as a constant. (`?` and closures are not allowed there: each fallible step is a `match`.)
     let _ = writeln!(o, "/// The integrator defaults of the file (1 spp, seed 0).");
-    let _ = writeln!(o, "pub fn settings() -> Result<picomis::RenderSettings, picomis::SceneError> {{");
+    let _ = writeln!(o, "pub const fn settings() -> Result<picomis::RenderSettings, picomis::SceneError> {{");
     let _ = writeln!(
         o,
-        "    Ok(picomis::RenderSettings::new({}, {}, {}, 1, 0)?.with_sampler(picomis::SamplerKind::{:?}))",
-        method(s.method),
-        s.light_samples,
-        s.bsdf_samples,
-        s.sampler
+        "    macro_rules! ok {{ ($e:expr) => {{ match $e {{ Ok(v) => v, Err(e) => return Err(e) }} }}; }}"
+    );
+    let _ = writeln!(o, "    let method = ok!({});", method(s.method));
+    let _ = writeln!(
+        o,
+        "    let s = ok!(picomis::RenderSettings::new(method, {}, {}, 1, 0)).with_sampler(picomis::SamplerKind::{:?});",
+        s.light_samples, s.bsdf_samples, s.sampler
     );
     if s.quads != picomis::QuadSampling::default() {
-        let _ = writeln!(o, "        .map(|s| s.with_quad_sampling(picomis::QuadSampling::{:?}))", s.quads);
+        let _ = writeln!(o, "    let s = s.with_quad_sampling(picomis::QuadSampling::{:?});", s.quads);
     }
     if s.selection != picomis::LightSelection::default() {
-        let _ = writeln!(
-            o,
-            "        .map(|s| s.with_light_selection(picomis::LightSelection::{:?}))",
-            s.selection
-        );
+        let _ =
+            writeln!(o, "    let s = s.with_light_selection(picomis::LightSelection::{:?});", s.selection);
     }
-    if let picomis::MisModel::One { c_light } = s.model {
-        let _ = writeln!(
-            o,
-            "        .and_then(|s| s.with_mis_model(picomis::MisModel::One {{ c_light: {} }}))",
-            f(c_light)
-        );
+    match s.model {
+        picomis::MisModel::One { c_light } => {
+            let _ = writeln!(o, "    s.with_mis_model(picomis::MisModel::One {{ c_light: {} }})", f(c_light));
+        }
+        picomis::MisModel::Multi => {
+            let _ = writeln!(o, "    Ok(s)");
+        }
     }
     let _ = writeln!(o, "}}");
     o

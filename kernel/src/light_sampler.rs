@@ -27,23 +27,32 @@ use crate::shape::Rectangle;
 use crate::shape::{Shape, SurfacePoint};
 
 /// How points on sphere lights are drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum SphereSampling {
     /// Uniformly by area, converted to solid angle (the lecture's formulation); about half the
     /// points lie on the far side and contribute nothing.
     Area,
     /// Uniformly inside the cone the sphere subtends (falls back to area from inside).
-    #[default]
     Cone,
 }
 
+impl SphereSampling {
+    /// The default strategy (a constant, for the settings' `const` constructors).
+    pub const DEFAULT: Self = SphereSampling::Cone;
+}
+
+impl Default for SphereSampling {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
 /// How points on quad lights are drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum QuadSampling {
     /// Uniformly by area, converted to solid angle.
-    #[default]
     Area,
     /// Uniformly in the solid angle the quad subtends (spherical rectangles, Ureña et al. 2013);
     /// by area for quads that are not rectangles and where f32 cannot resolve the solid angle
@@ -57,7 +66,16 @@ pub enum QuadSampling {
     SolidAngleCosine,
 }
 
+impl Default for QuadSampling {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
 impl QuadSampling {
+    /// The default strategy (a constant, for the settings' `const` constructors).
+    pub const DEFAULT: Self = QuadSampling::Area;
+
     /// Every strategy, the default first.
     pub const ALL: [QuadSampling; 3] =
         [QuadSampling::Area, QuadSampling::SolidAngle, QuadSampling::SolidAngleCosine];
@@ -97,11 +115,10 @@ impl core::fmt::Display for QuadSampling {
 }
 
 /// How a light is chosen when a scene has several.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum LightSelection {
     /// Every light equally likely.
-    #[default]
     Uniform,
     /// Proportional to emitted power (luminance), on the grid of the random number (see
     /// [`GridDistribution`]): every light that emits is chosen with exactly the probability the
@@ -116,6 +133,17 @@ pub enum LightSelection {
     /// chosen with probability one; a light that certainly sends nothing to the point is never
     /// chosen. Costs O(lights) per shading point.
     Contribution,
+}
+
+impl LightSelection {
+    /// The default selection (a constant, for the settings' `const` constructors).
+    pub const DEFAULT: Self = LightSelection::Uniform;
+}
+
+impl Default for LightSelection {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
 }
 
 /// The share of the BSDF-free importance in light selection by contribution: every light that

@@ -41,22 +41,22 @@ impl Heuristic {
     pub const DEFAULT_ALPHA: f32 = 0.1;
 
     /// The power heuristic with exponent `beta` (finite and positive).
-    pub fn power(beta: f32) -> Result<Self, SceneError> {
+    pub const fn power(beta: f32) -> Result<Self, SceneError> {
         Heuristic::Power { beta }.validated()
     }
 
     /// The cutoff heuristic with threshold `alpha` (in [0, 1]).
-    pub fn cutoff(alpha: f32) -> Result<Self, SceneError> {
+    pub const fn cutoff(alpha: f32) -> Result<Self, SceneError> {
         Heuristic::Cutoff { alpha }.validated()
     }
 
     /// The heuristic if its parameter is valid: beta finite and positive, alpha in [0, 1].
-    pub fn validated(self) -> Result<Self, SceneError> {
+    pub const fn validated(self) -> Result<Self, SceneError> {
         match self {
             Heuristic::Power { beta } if !(beta.is_finite() && beta > 0.0) => {
                 Err(SceneError::OutOfRange(Field::Beta))
             }
-            Heuristic::Cutoff { alpha } if !(0.0..=1.0).contains(&alpha) => {
+            Heuristic::Cutoff { alpha } if !(alpha >= 0.0 && alpha <= 1.0) => {
                 Err(SceneError::OutOfRange(Field::CutoffAlpha))
             }
             _ => Ok(self),
@@ -178,9 +178,9 @@ impl Method {
     }
 
     /// The method if its parameters are valid (see [`Heuristic::validated`]).
-    pub fn validated(self) -> Result<Self, SceneError> {
+    pub const fn validated(self) -> Result<Self, SceneError> {
         match self {
-            Method::Mis(h) => h.validated().map(Method::Mis),
+            Method::Mis(h) => mis(h.validated()),
             single => Ok(single),
         }
     }
@@ -204,19 +204,17 @@ impl Method {
     /// The same method with the power heuristic's exponent replaced by `beta` and the cutoff
     /// heuristic's threshold by `alpha` where given (other methods have neither and are kept),
     /// validated.
-    pub fn with_parameters(self, beta: Option<f32>, alpha: Option<f32>) -> Result<Self, SceneError> {
+    pub const fn with_parameters(self, beta: Option<f32>, alpha: Option<f32>) -> Result<Self, SceneError> {
         match (self, beta, alpha) {
-            (Method::Mis(Heuristic::Power { .. }), Some(beta), _) => Heuristic::power(beta).map(Method::Mis),
-            (Method::Mis(Heuristic::Cutoff { .. }), _, Some(alpha)) => {
-                Heuristic::cutoff(alpha).map(Method::Mis)
-            }
+            (Method::Mis(Heuristic::Power { .. }), Some(beta), _) => mis(Heuristic::power(beta)),
+            (Method::Mis(Heuristic::Cutoff { .. }), _, Some(alpha)) => mis(Heuristic::cutoff(alpha)),
             (m, ..) => m.validated(),
         }
     }
 
     /// Sample counts actually drawn for the requested `(n_light, n_bsdf)`.
     #[inline]
-    pub fn sample_counts(&self, n_light: u16, n_bsdf: u16) -> (u16, u16) {
+    pub const fn sample_counts(&self, n_light: u16, n_bsdf: u16) -> (u16, u16) {
         match self {
             Method::LightOnly => (n_light, 0),
             Method::BsdfOnly => (0, n_bsdf),
@@ -239,6 +237,14 @@ impl Method {
                 }
             }
         }
+    }
+}
+
+/// A validated heuristic as a method (`Result::map`, which a `const fn` cannot call).
+const fn mis(h: Result<Heuristic, SceneError>) -> Result<Method, SceneError> {
+    match h {
+        Ok(h) => Ok(Method::Mis(h)),
+        Err(e) => Err(e),
     }
 }
 

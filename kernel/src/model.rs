@@ -10,11 +10,10 @@
 use crate::error::{Field, SceneError};
 
 /// How many samples a camera sample draws, and from which technique.
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum MisModel {
     /// Every technique draws its own samples (the lecture's model).
-    #[default]
     Multi,
     /// One sample per camera sample: the light technique with probability `c_light`, else the
     /// BSDF technique. `c_light` = 1 or 0 are light or BSDF sampling alone.
@@ -24,16 +23,25 @@ pub enum MisModel {
     },
 }
 
+impl Default for MisModel {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
 /// The default probability of the light technique in the one-sample model.
 pub const DEFAULT_C_LIGHT: f32 = 0.5;
 
 impl MisModel {
+    /// The default model (a constant, for the settings' `const` constructors).
+    pub const DEFAULT: Self = MisModel::Multi;
+
     /// The one-sample model with light probability `c_light`, which must be in [0, 1].
-    pub fn one(c_light: f32) -> Result<Self, SceneError> {
+    pub const fn one(c_light: f32) -> Result<Self, SceneError> {
         if !c_light.is_finite() {
             return Err(SceneError::NonFinite(Field::CLight));
         }
-        if !(0.0..=1.0).contains(&c_light) {
+        if !(c_light >= 0.0 && c_light <= 1.0) {
             return Err(SceneError::OutOfRange(Field::CLight));
         }
         Ok(MisModel::One { c_light })

@@ -227,17 +227,25 @@ fn reverse_pair(x: u32, y: u32) -> (u32, u32) {
 }
 
 /// The closed set of sample streams.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum SamplerKind {
     /// Independent uniform numbers (PCG).
     Independent,
     /// Padded Owen-scrambled Sobol: every 2-D request is a scrambled (0, 2)-sequence.
-    #[default]
     Sobol,
 }
 
+impl Default for SamplerKind {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
 impl SamplerKind {
+    /// The default stream (a constant, for the settings' `const` constructors).
+    pub const DEFAULT: Self = SamplerKind::Sobol;
+
     /// Every sample stream, the default first.
     pub const ALL: [SamplerKind; 2] = [SamplerKind::Sobol, SamplerKind::Independent];
 

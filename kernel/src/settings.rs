@@ -25,32 +25,45 @@ pub struct RenderSettings {
 
 /// Whether the unoccluded light reaching a Lambertian receiver is computed in closed form, with
 /// Monte Carlo left for the shadows only (see [`crate::analytic`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum ControlVariate {
     /// Every light is estimated by sampling alone.
-    #[default]
     Off,
     /// Integral f V = integral f (closed form) + integral f (V - 1) (sampled with MIS).
     On,
+}
+
+impl ControlVariate {
+    /// The default (a constant, for the settings' `const` constructors).
+    pub const DEFAULT: Self = ControlVariate::Off;
+}
+
+impl Default for ControlVariate {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
 }
 
 impl RenderSettings {
     /// Settings with `n_light` light and `n_bsdf` BSDF samples per camera sample, `spp` camera
     /// samples per pixel. Rejects a method left with no samples, a power heuristic whose beta is
     /// not finite and positive, a cutoff alpha outside [0, 1], and `spp` = 0.
-    pub fn new(
+    pub const fn new(
         method: Method,
         light_samples: u16,
         bsdf_samples: u16,
         spp: u32,
         seed: u32,
     ) -> Result<Self, SceneError> {
-        let method = method.validated()?;
+        let method = match method.validated() {
+            Ok(m) => m,
+            Err(e) => return Err(e),
+        };
         if spp == 0 {
             return Err(SceneError::NonPositive(Field::SamplesPerPixel));
         }
-        if method.sample_counts(light_samples, bsdf_samples) == (0, 0) {
+        if let (0, 0) = method.sample_counts(light_samples, bsdf_samples) {
             return Err(SceneError::NoTechnique);
         }
         Ok(Self {
@@ -59,63 +72,66 @@ impl RenderSettings {
             bsdf_samples,
             spp,
             seed,
-            spheres: SphereSampling::default(),
-            selection: LightSelection::default(),
-            model: MisModel::default(),
-            quads: QuadSampling::default(),
-            control_variate: ControlVariate::default(),
-            sampler: SamplerKind::default(),
+            spheres: SphereSampling::DEFAULT,
+            selection: LightSelection::DEFAULT,
+            model: MisModel::DEFAULT,
+            quads: QuadSampling::DEFAULT,
+            control_variate: ControlVariate::DEFAULT,
+            sampler: SamplerKind::DEFAULT,
         })
     }
 
     /// The same settings with another MIS model. The one-sample model's `c_light` must be in
     /// [0, 1] (0 and 1 are BSDF or light sampling alone).
-    pub fn with_mis_model(mut self, model: MisModel) -> Result<Self, SceneError> {
+    pub const fn with_mis_model(mut self, model: MisModel) -> Result<Self, SceneError> {
         self.model = match model {
             MisModel::Multi => model,
-            MisModel::One { c_light } => MisModel::one(c_light)?,
+            MisModel::One { c_light } => match MisModel::one(c_light) {
+                Ok(m) => m,
+                Err(e) => return Err(e),
+            },
         };
         Ok(self)
     }
 
     /// The same settings with another quad-light sampling strategy.
-    pub fn with_quad_sampling(mut self, quads: QuadSampling) -> Self {
+    pub const fn with_quad_sampling(mut self, quads: QuadSampling) -> Self {
         self.quads = quads;
         self
     }
 
     /// The same settings with the analytic control variate on or off.
-    pub fn with_control_variate(mut self, control_variate: ControlVariate) -> Self {
+    pub const fn with_control_variate(mut self, control_variate: ControlVariate) -> Self {
         self.control_variate = control_variate;
         self
     }
 
     /// The same settings with another sphere-light sampling strategy.
-    pub fn with_sphere_sampling(mut self, spheres: SphereSampling) -> Self {
+    pub const fn with_sphere_sampling(mut self, spheres: SphereSampling) -> Self {
         self.spheres = spheres;
         self
     }
 
     /// The same settings with another light-selection strategy.
-    pub fn with_light_selection(mut self, selection: LightSelection) -> Self {
+    pub const fn with_light_selection(mut self, selection: LightSelection) -> Self {
         self.selection = selection;
         self
     }
 
     /// The same settings with another sample stream.
-    pub fn with_sampler(mut self, sampler: SamplerKind) -> Self {
+    pub const fn with_sampler(mut self, sampler: SamplerKind) -> Self {
         self.sampler = sampler;
         self
     }
 
     /// The same settings with another seed.
-    pub fn with_seed(mut self, seed: u32) -> Self {
+    pub const fn with_seed(mut self, seed: u32) -> Self {
         self.seed = seed;
         self
     }
 
     /// The same settings with another number of samples per pixel (at least 1, as in [`Self::new`]).
-    pub fn with_spp(mut self, spp: u32) -> Result<Self, SceneError> {
+    pub const fn with_spp(mut self, spp: u32) -> Result<Self, SceneError> {
         if spp == 0 {
             return Err(SceneError::NonPositive(Field::SamplesPerPixel));
         }
