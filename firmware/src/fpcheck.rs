@@ -17,7 +17,10 @@
 //! compiler-builtins' own routines and counts the mismatches, and also checks the u32 -> f32
 //! conversion (`__aeabi_ui2f`) against compiler-builtins' `__floatunsisf` on
 //! 2^20 values (every leading-one position, exact ties of both parities), and the count of
-//! leading zeros (the M0's `__clzsi2`) of the same values against a shift loop.
+//! leading zeros (the M0's `__clzsi2`) of the same values against a shift loop. On the M0 it
+//! also checks the fixed-point path's integer routines (`kernel/src/int_m0.rs`), the quad test's
+//! division steps and the 32 x 32 -> 64-bit product, against the 64-bit division and product on
+//! [`DIVISIONS`] pairs each.
 
 /// Operand pairs checked.
 pub const PAIRS: u32 = 1 << 17;
@@ -403,6 +406,43 @@ pub fn dot_operands(i: u32) -> (picomis::Vec3, picomis::Vec3) {
     }
 }
 
+/// Operand pairs for each of the M0's integer routines of the fixed-point path.
+pub const DIVISIONS: u32 = 1 << 16;
+
+/// Division pair `i` in the steps' bounds, 0 <= n < 2^31 d and 1 <= d <= 2^31: every eighth from
+/// the edges (the divisor's extremes and powers of two, the dividend at 0, d - 1, d, multiples of
+/// d and the top of the range), the rest random divisors of every magnitude with random
+/// dividends of every magnitude below the bound.
+#[cfg_attr(not(all(target_arch = "arm", target_abi = "eabi")), allow(dead_code))]
+pub fn division_operands(i: u32) -> (u64, u32) {
+    const D: [u32; 8] = [1, 2, 3, 0x8000_0000, 0x7fff_ffff, 0x1_0000, 0x1_0001, 0x5555_5555];
+    let (a, b) = (mix(i ^ 0x5bd1_e995), mix(i.wrapping_add(0x68e3_1da4)));
+    let d = if i % 8 == 0 { D[(a % 8) as usize] } else { 1 + ((a >> 1) >> (b % 31)) };
+    let top = u64::from(d) << 31; // the bound: n < top
+    let n = if i % 8 == 0 {
+        let k = u64::from(b);
+        [0, u64::from(d) - 1, u64::from(d), top - 1, top - u64::from(d), k * u64::from(d), k, top >> 1]
+            [(b >> 29) as usize]
+    } else {
+        let c = mix(a ^ b);
+        (u64::from(c) << 32 | u64::from(mix(c))) >> (b >> 26)
+    };
+    (n % top, d)
+}
+
+/// Factors of the M0's 32 x 32 -> 64-bit product, pair `i`: every eighth from the edges (0, 1,
+/// -1, the extremes, the 16-bit halves' boundaries), the rest random of every magnitude and sign.
+#[cfg_attr(not(all(target_arch = "arm", target_abi = "eabi")), allow(dead_code))]
+pub fn wide_factors(i: u32) -> (i32, i32) {
+    const E: [i32; 8] = [0, 1, -1, i32::MIN, i32::MAX, 0xffff, -0x1_0000, 0x7fff_8000];
+    let (a, b) = (mix(i ^ 0x2545_f491), mix(i.wrapping_add(0x1b87_3593)));
+    if i % 8 == 0 {
+        (E[(a % 8) as usize], E[(b % 8) as usize])
+    } else {
+        ((a as i32) >> (b % 32), (b as i32) >> (a % 32))
+    }
+}
+
 /// 64-bit operands for the integer multiply, from pair `i`'s bits.
 pub fn wide(i: u32, a: u32, b: u32) -> (u64, u64) {
     let c = mix(a ^ i);
@@ -540,10 +580,47 @@ pub fn run() -> u32 {
             mismatches += 1;
         }
     }
+    // The M0's integer routines of the fixed-point path (kernel/src/int_m0.rs): the division
+    // steps against the 64-bit division, the 32 x 32 -> 64-bit product against the 64-bit one.
+    #[cfg(all(target_arch = "arm", target_abi = "eabi"))]
+    {
+        unsafe extern "C" {
+            fn picomis_div_steps(rem: u32, w: u32, d: u32) -> u32;
+            fn picomis_mul_wide(a: i32, b: i32) -> i64;
+        }
+        for i in 0..DIVISIONS {
+            let (a, b) = wide_factors(i);
+            // SAFETY: the routine takes and returns plain integers.
+            let ours = unsafe { picomis_mul_wide(a, b) };
+            let want = i64::from(a) * i64::from(b);
+            if ours != want {
+                if mismatches < 8 {
+                    info!(
+                        "softfloat mismatch: wide product pair {}: ours {} want {}",
+                        i, ours as u64, want as u64
+                    );
+                }
+                mismatches += 1;
+            }
+        }
+        for i in 0..DIVISIONS {
+            let (n, d) = division_operands(i);
+            // SAFETY: the routine takes and returns plain integers (see kernel/src/fixed.rs).
+            let ours = unsafe { picomis_div_steps((n >> 31) as u32, (n as u32) << 1, d) };
+            let want = n / u64::from(d);
+            if u64::from(ours) != want {
+                if mismatches < 8 {
+                    info!("softfloat mismatch: division steps {} / {}: ours {} want {}", n, d, ours, want);
+                }
+                mismatches += 1;
+            }
+        }
+    }
+    let divisions = if cfg!(all(target_arch = "arm", target_abi = "eabi")) { 2 * DIVISIONS } else { 0 };
     info!(
         "softfloat library comparison: {} mismatches in {} results",
         mismatches,
-        5 * PAIRS + DIV_PAIRS + 2 * CONVERSIONS + DOTS
+        5 * PAIRS + DIV_PAIRS + 2 * CONVERSIONS + DOTS + divisions
     );
     if mismatches == 0 { 0 } else { 6 }
 }

@@ -22,6 +22,8 @@ use heapless::Vec;
 
 use crate::accel::Target;
 use crate::error::{Collection, SceneError, Unrepresentable};
+#[cfg(all(target_arch = "arm", target_os = "none", target_abi = "eabi"))]
+use crate::int_m0::{div_steps, mul_wide};
 use crate::math::Vec3;
 use crate::shape::{Ray, Shape};
 
@@ -91,28 +93,7 @@ fn dot(a: &[i64; 3], b: &[i64; 3]) -> i64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// `a b` in 64 bits, exact. On ARMv6-M, which has no 32 x 32 -> 64-bit multiply instruction,
-/// one call to `mul_wide_m0.s` (about 20 instructions) instead of compiler-builtins' 64 x 64-bit
-/// `__aeabi_lmul` on the sign-extended operands.
-#[cfg(all(target_arch = "arm", target_os = "none", target_abi = "eabi"))]
-#[allow(unsafe_code)]
-#[inline(always)]
-fn mul_wide(a: i32, b: i32) -> i64 {
-    unsafe extern "C" {
-        fn picomis_mul_wide(a: i32, b: i32) -> i64;
-    }
-    // SAFETY: the routine reads its two register arguments and writes only r0-r3 and the flags
-    // (r4 is saved and restored), as AAPCS allows.
-    unsafe { picomis_mul_wide(a, b) }
-}
-
-#[cfg(all(target_arch = "arm", target_os = "none", target_abi = "eabi"))]
-#[allow(unsafe_code)]
-mod mul_wide_routine {
-    core::arch::global_asm!(include_str!("mul_wide_m0.s"), options(raw));
-}
-
-/// `a b` in 64 bits, exact.
+/// `a b` in 64 bits, exact (on the M0: `int_m0.rs`'s routine).
 #[cfg(not(all(target_arch = "arm", target_os = "none", target_abi = "eabi")))]
 #[inline(always)]
 fn mul_wide(a: i32, b: i32) -> i64 {
@@ -152,10 +133,9 @@ fn isqrt(x: i64) -> i64 {
 /// Soft-float Arm cores (the Cortex-M0 class): no divide instruction at all.
 const NO_DIVIDER: bool = cfg!(all(target_arch = "arm", not(target_abi = "eabihf")));
 
-/// floor(n / d) for 0 <= n < 2^31 d and 1 <= d <= 2^31, bit by bit in 32-bit registers: the
-/// remainder stays below d <= 2^31, so twice it plus a bit fits a u32, and n >> 31 < d starts it.
-/// One word holds the dividend's 31 low bits, shifted out at the top, and the quotient bits,
-/// shifted in at the bottom. Replaces the 64-bit division (compiler-builtins' `__aeabi_uldivmod`,
+/// floor(n / d) for 0 <= n < 2^31 d and 1 <= d <= 2^31, bit by bit in 32-bit registers
+/// ([`div_steps`]): the remainder stays below d <= 2^31, so twice it plus a bit fits a u32, and
+/// n >> 31 < d starts it. Replaces the 64-bit division (compiler-builtins' `__aeabi_uldivmod`,
 /// about 440 instructions on the M0), which a quad test pays once per plane hit in range.
 /// Outside the bounds (never reached: the quad test's range check implies them), the 64-bit
 /// division.
@@ -164,9 +144,17 @@ fn div_floor(n: i64, d: i64) -> i64 {
     if !(n >= 0 && (1..=1 << 31).contains(&d) && n >> 31 < d) {
         return n.checked_div(d).unwrap_or(0);
     }
-    let d = d as u32;
-    let mut rem = (n >> 31) as u32; // < d
-    let mut w = (n as u32) << 1; // dividend bits 30..0 on top
+    // The remainder starts as the dividend's bits from 31 up (< d); its bits 30..0 go on top.
+    i64::from(div_steps((n >> 31) as u32, (n as u32) << 1, d as u32))
+}
+
+/// The 31 steps of restoring division: `rem` < `d` <= 2^31 holds the dividend's leading bits,
+/// `w` the 31 bits after them on top; each step shifts one of them into the remainder and the
+/// quotient bit in at the bottom of `w`, which ends as the quotient. (On the M0: one call to
+/// `int_m0.rs`'s routine, the same steps in Thumb-1.)
+#[cfg(not(all(target_arch = "arm", target_os = "none", target_abi = "eabi")))]
+#[inline]
+fn div_steps(mut rem: u32, mut w: u32, d: u32) -> u32 {
     for _ in 0..31 {
         rem = (rem << 1) | (w >> 31);
         w <<= 1;
@@ -175,7 +163,7 @@ fn div_floor(n: i64, d: i64) -> i64 {
             w |= 1;
         }
     }
-    i64::from(w)
+    w
 }
 
 /// floor(n / d) for 0 <= n < 2^31 d and 1 <= d <= 2^31, as [`div_floor`], from two 32-by-16-bit

@@ -55,6 +55,8 @@ pub mod estimator;
 #[cfg(feature = "fixed")]
 mod fixed;
 pub mod ids;
+#[cfg(all(target_arch = "arm", target_os = "none", target_abi = "eabi"))]
+mod int_m0;
 pub mod light;
 pub mod light_importance;
 pub mod light_sampler;
