@@ -204,32 +204,72 @@ fn div_floor_digits(n: i64, d: i64) -> i64 {
     i64::from(q1 << 16 | q0)
 }
 
-/// trunc(x 2^s) for s <= 126 (`None` for NaN) from the bits of x, with no soft-float call:
-/// what `(x * 2^s) as i64` gives for |x 2^s| < 2^40, and +-2^40 beyond (infinities too).
-#[inline]
-fn trunc_scaled(x: f32, s: i32) -> Option<i64> {
+/// |x| 2^s as (exponent e, significand m) with |x| 2^s = m 2^(e - 23), m < 2^24, for s <= 126
+/// (e below 0 for subnormal x), and the sign; `None` for NaN. The bits of x, no soft-float call.
+#[inline(always)]
+fn scaled_parts(x: f32, s: i32) -> Option<(i32, u32, bool)> {
     let b = x.to_bits();
     let a = b & 0x7fff_ffff;
     if a > 0x7f80_0000 {
         return None;
     }
-    // The exponent of |x| 2^s (below 0 for subnormal x: s <= 126).
-    let e = (a >> 23) as i32 - 127 + s;
+    Some(((a >> 23) as i32 - 127 + s, (a & 0x7f_ffff) | 0x80_0000, b >> 31 != 0))
+}
+
+/// trunc(x 2^s) for s <= 126 (`None` for NaN) from the bits of x, with no soft-float call:
+/// what `(x * 2^s) as i64` gives for |x 2^s| < 2^40, and +-2^40 beyond (infinities too). The
+/// reference of the 32-bit conversions [`bounded`] and [`clamped`].
+#[cfg(test)]
+fn trunc_scaled(x: f32, s: i32) -> Option<i64> {
+    let (e, m, negative) = scaled_parts(x, s)?;
     let v = if e < 0 {
         0
     } else if e >= 40 {
         1i64 << 40
     } else {
-        let m = i64::from((a & 0x7f_ffff) | 0x80_0000);
+        let m = i64::from(m);
         if e >= 23 { m << (e - 23) } else { m >> (23 - e) }
     };
-    Some(if b >> 31 != 0 { -v } else { v })
+    Some(if negative { -v } else { v })
 }
 
-/// trunc(x 2^s) when its magnitude is at most `max` (below 2^31; `None` for NaN).
+/// trunc(x 2^s) when its magnitude is at most `max` (below 2^31; `None` for NaN), in 32-bit
+/// shifts (a magnitude of 2^31 or more exceeds `max`; 64-bit shifts are library calls on the
+/// 32-bit cores, eight per ray before).
 #[inline]
 fn bounded(x: f32, s: i32, max: i64) -> Option<i32> {
-    trunc_scaled(x, s).filter(|v| v.abs() <= max).map(|v| v as i32)
+    let (e, m, negative) = scaled_parts(x, s)?;
+    let v = if e < 0 {
+        0
+    } else if e <= 23 {
+        m >> (23 - e)
+    } else if e < 31 {
+        m << (e - 23) // below 2^31
+    } else {
+        return None;
+    };
+    if i64::from(v) > max {
+        return None;
+    }
+    // v < 2^31: no wrap.
+    Some(if negative { -(v as i32) } else { v as i32 })
+}
+
+/// trunc(x 2^s) limited to [-MAX_T, MAX_T] (`MAX_T` = 2^31), 0 for NaN: a ray's distance bound,
+/// in 32-bit shifts like [`bounded`].
+#[inline]
+fn clamped(x: f32, s: i32) -> i64 {
+    let Some((e, m, negative)) = scaled_parts(x, s) else { return 0 };
+    let v = if e < 0 {
+        0
+    } else if e <= 23 {
+        i64::from(m >> (23 - e))
+    } else if e < 31 {
+        i64::from(m << (e - 23))
+    } else {
+        MAX_T
+    };
+    if negative { -v } else { v }
 }
 
 /// The exponent s of the scale 2^s for `shapes` seen from `camera`.
@@ -444,8 +484,7 @@ impl<const S: usize> FixedScene<S> {
         ];
         // Saturating conversions (+inf is 2^40, NaN is 0), then clamped: the quad test's
         // products stay in range.
-        let lo = trunc_scaled(t_min, k).unwrap_or(0).clamp(-MAX_T, MAX_T);
-        let hi = trunc_scaled(t_max, k).unwrap_or(0).clamp(-MAX_T, MAX_T);
+        let (lo, hi) = (clamped(t_min, k), clamped(t_max, k));
         Some(FixedRay { o, d, lo, hi })
     }
 
@@ -540,6 +579,34 @@ mod tests {
         }
         assert_eq!(trunc_scaled(f32::INFINITY, 3), Some(1 << 40));
         assert_eq!(trunc_scaled(-1.5, 1), Some(-3));
+    }
+
+    /// `bounded` and `clamped`, in 32 bits, are `trunc_scaled` limited to `max` and clamped to
+    /// `MAX_T`: random bits and every binade around the bounds, with both signs.
+    #[test]
+    fn the_32_bit_conversions_are_the_limited_trunc_scaled() {
+        let mut x = 0x2545_f491u32;
+        let randoms = (0..100_000).map(|_| {
+            x = x.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+            x
+        });
+        let edges = (0..=255u32).flat_map(|e| [0, 1, 0x40_0000, 0x7f_ffff].map(|f| e << 23 | f));
+        for bits in randoms.chain(edges) {
+            for v in [f32::from_bits(bits), -f32::from_bits(bits & 0x7fff_ffff)] {
+                for (s, max) in [
+                    (-20, MAX_ORIGIN),
+                    (0, MAX_ORIGIN),
+                    (5, MAX_ORIGIN),
+                    (Q as i32, MAX_DIR),
+                    (30, (1 << 31) - 1),
+                ] {
+                    let want = trunc_scaled(v, s).filter(|t| t.abs() <= max).map(|t| t as i32);
+                    assert_eq!(bounded(v, s, max), want, "{v:e} 2^{s} max {max}");
+                    let want = trunc_scaled(v, s).unwrap_or(0).clamp(-MAX_T, MAX_T);
+                    assert_eq!(clamped(v, s), want, "{v:e} 2^{s} clamped");
+                }
+            }
+        }
     }
 
     /// `div_floor` and `div_floor_digits` equal the 64-bit division over their bounds' edges and
