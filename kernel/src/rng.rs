@@ -192,7 +192,7 @@ fn y_seed(hash: u32) -> u32 {
 /// cores the float is built from the bits (the leading one's position gives the exponent), not
 /// by a conversion and a multiply: the same number.
 #[inline]
-fn to_unit(bits: u32) -> f32 {
+pub(crate) fn to_unit(bits: u32) -> f32 {
     let v = bits >> 8;
     if SOFT_FLOAT { unit_from_bits(v) } else { v as f32 * (1.0 / 16_777_216.0) }
 }

@@ -381,7 +381,8 @@ pub fn sample_uniform_index(bits: u32, n: usize) -> Option<DiscreteSample> {
     }
     let scaled = u64::from(bits) * n as u64;
     let index = ((scaled >> 32) as usize).min(n - 1);
-    let reused = ((scaled as u32) >> 8) as f32 * (1.0 / 16_777_216.0);
+    // The top 24 bits of the fraction (built from the bits on the soft-float cores).
+    let reused = crate::rng::to_unit(scaled as u32);
     Some(DiscreteSample { index, probability: uniform_index_pmf(n), reused })
 }
 
