@@ -19,8 +19,8 @@
 //! 2^20 values (every leading-one position, exact ties of both parities), and the count of
 //! leading zeros (the M0's `__clzsi2`) of the same values against a shift loop. On the M0 it
 //! also checks the fixed-point path's integer routines (`kernel/src/int_m0.rs`), the quad test's
-//! division steps and the 32 x 32 -> 64-bit product, against the 64-bit division and product on
-//! [`DIVISIONS`] pairs each.
+//! division steps, the 32 x 32 -> 64-bit product and the 64-bit dot product of 32-bit vectors,
+//! against the 64-bit division and products on [`DIVISIONS`] operand pairs each.
 
 /// Operand pairs checked.
 pub const PAIRS: u32 = 1 << 17;
@@ -587,6 +587,7 @@ pub fn run() -> u32 {
         unsafe extern "C" {
             fn picomis_div_steps(rem: u32, w: u32, d: u32) -> u32;
             fn picomis_mul_wide(a: i32, b: i32) -> i64;
+            fn picomis_dot32(a: &[i32; 3], b: &[i32; 3]) -> i64;
         }
         for i in 0..DIVISIONS {
             let (a, b) = wide_factors(i);
@@ -597,6 +598,23 @@ pub fn run() -> u32 {
                 if mismatches < 8 {
                     info!(
                         "softfloat mismatch: wide product pair {}: ours {} want {}",
+                        i, ours as u64, want as u64
+                    );
+                }
+                mismatches += 1;
+            }
+        }
+        for i in 0..DIVISIONS {
+            let ((a0, b0), (a1, b1), (a2, b2)) =
+                (wide_factors(3 * i), wide_factors(3 * i + 1), wide_factors(3 * i + 2));
+            let (a, b) = ([a0, a1, a2], [b0, b1, b2]);
+            // SAFETY: the routine reads three i32 through each reference.
+            let ours = unsafe { picomis_dot32(&a, &b) };
+            let want = (0..3).fold(0i64, |sum, k| sum.wrapping_add(i64::from(a[k]) * i64::from(b[k])));
+            if ours != want {
+                if mismatches < 8 {
+                    info!(
+                        "softfloat mismatch: wide dot product {}: ours {} want {}",
                         i, ours as u64, want as u64
                     );
                 }
@@ -616,7 +634,7 @@ pub fn run() -> u32 {
             }
         }
     }
-    let divisions = if cfg!(all(target_arch = "arm", target_abi = "eabi")) { 2 * DIVISIONS } else { 0 };
+    let divisions = if cfg!(all(target_arch = "arm", target_abi = "eabi")) { 3 * DIVISIONS } else { 0 };
     info!(
         "softfloat library comparison: {} mismatches in {} results",
         mismatches,

@@ -23,7 +23,7 @@ use heapless::Vec;
 use crate::accel::Target;
 use crate::error::{Collection, SceneError, Unrepresentable};
 #[cfg(all(target_arch = "arm", target_os = "none", target_abi = "eabi"))]
-use crate::int_m0::{div_steps, mul_wide};
+use crate::int_m0::{div_steps, dot32, mul_wide};
 use crate::math::Vec3;
 use crate::shape::{Ray, Shape};
 
@@ -100,7 +100,8 @@ fn mul_wide(a: i32, b: i32) -> i64 {
     i64::from(a) * i64::from(b)
 }
 
-/// `a . b` of 32-bit vectors in 64 bits (each product exact).
+/// `a . b` of 32-bit vectors in 64 bits (each product exact; on the M0: `int_m0.rs`'s routine).
+#[cfg(not(all(target_arch = "arm", target_os = "none", target_abi = "eabi")))]
 fn dot32(a: &[i32; 3], b: &[i32; 3]) -> i64 {
     mul_wide(a[0], b[0]) + mul_wide(a[1], b[1]) + mul_wide(a[2], b[2])
 }
