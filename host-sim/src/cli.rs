@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand, ValueEnum};
 use picomis::{
-    ControlVariate, Film, Heuristic, LightSelection, Method, MisModel, QuadSampling, RenderSettings,
-    SamplerKind, SphereSampling,
+    ControlVariate, Film, Heuristic, LightSelection, LobeMixing, Method, MisModel, QuadSampling,
+    RenderSettings, SamplerKind, SphereSampling,
 };
 use picomis_format::parse_mis_model;
 
@@ -47,15 +47,6 @@ pub enum Command {
     /// Show a scene in an embedded-graphics-simulator window, refining pass by pass (needs the
     /// `window` feature).
     View(crate::view::ViewArgs),
-}
-
-/// How sphere lights are sampled.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum SphereSamplingArg {
-    /// Uniformly by area (the lecture's formulation).
-    Area,
-    /// Uniformly in the cone the sphere subtends.
-    Cone,
 }
 
 /// The MIS sampling model.
@@ -103,8 +94,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub bsdf_samples: Option<u16>,
     /// How sphere lights are sampled.
-    #[arg(long, value_enum, default_value_t = SphereSamplingArg::Cone)]
-    pub sphere_sampling: SphereSamplingArg,
+    #[arg(long, value_name = "S", value_parser = sphere_sampling_parser(), default_value_t = SphereSampling::DEFAULT)]
+    pub sphere_sampling: SphereSampling,
     /// How a light is chosen among several (default: the scene's integrator block, else the
     /// kernel's default).
     #[arg(long, value_name = "S", value_parser = selection_parser())]
@@ -123,6 +114,10 @@ pub struct RenderArgs {
     /// Carlo for the shadows only.
     #[arg(long, value_enum, default_value_t = OnOff::Off)]
     pub control_variate: OnOff,
+    /// Light samples also from a glossy receiver's lobe, where the lobe is narrower than the
+    /// light (the rim and the glow of a light's reflection in a near-mirror).
+    #[arg(long, value_enum, default_value_t = OnOff::Off)]
+    pub lobe_mixing: OnOff,
     /// Sample stream: sobol (padded Owen-scrambled Sobol) or independent (default: the scene's
     /// integrator block, else sobol).
     #[arg(long, value_name = "S", value_parser = sampler_parser())]
@@ -268,6 +263,15 @@ fn quad_sampling_parser() -> impl TypedValueParser<Value = QuadSampling> {
     })
 }
 
+/// The `--sphere-sampling` value parser: the kernel's strategies (with their summaries in the
+/// help).
+pub fn sphere_sampling_parser() -> impl TypedValueParser<Value = SphereSampling> {
+    let names = SphereSampling::ALL.map(|s| PossibleValue::new(s.name()).help(s.summary()));
+    PossibleValuesParser::new(names).try_map(|name| {
+        SphereSampling::from_name(&name).ok_or_else(|| format!("unknown sphere sampling {name:?}"))
+    })
+}
+
 /// The `--sampler` value parser: the kernel's sample streams.
 fn sampler_parser() -> impl TypedValueParser<Value = SamplerKind> {
     let names = SamplerKind::ALL.map(|k| PossibleValue::new(k.name()));
@@ -313,6 +317,9 @@ fn extras_note(s: &RenderSettings) -> String {
     if s.control_variate() == ControlVariate::On {
         note += ", control variate";
     }
+    if s.lobe_mixing() == LobeMixing::On {
+        note += ", lobe mixing";
+    }
     note
 }
 
@@ -352,10 +359,7 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
             args.spp
         ))
     })?;
-    let spheres = match args.sphere_sampling {
-        SphereSamplingArg::Area => SphereSampling::Area,
-        SphereSamplingArg::Cone => SphereSampling::Cone,
-    };
+    let spheres = args.sphere_sampling;
     let control_variate = match args.control_variate {
         OnOff::On => ControlVariate::On,
         OnOff::Off => ControlVariate::Off,
@@ -376,6 +380,11 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
     let model = parse_mis_model(model_name, c_light)
         .map_err(|e| usage(format!("--mis-model {model_name} --c-light {c_light}: {e}")))?;
     let settings = settings.with_mis_model(model).map_err(|e| usage(format!("--c-light {c_light}: {e}")))?;
+    let lobe = match args.lobe_mixing {
+        OnOff::On => LobeMixing::On,
+        OnOff::Off => LobeMixing::Off,
+    };
+    let settings = settings.with_lobe_mixing(lobe).map_err(|e| usage(format!("--lobe-mixing: {e}")))?;
     let sampler = args.sampler.unwrap_or(loaded.file.default_sampler());
     Ok(settings
         .with_sphere_sampling(spheres)

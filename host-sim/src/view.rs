@@ -17,7 +17,7 @@ use picomis::{
 };
 
 use crate::SimError;
-use crate::cli::{SphereSamplingArg, selection_parser};
+use crate::cli::{selection_parser, sphere_sampling_parser};
 use crate::figure;
 use crate::scenes::Loaded;
 
@@ -57,8 +57,8 @@ pub struct ViewArgs {
     #[arg(long, value_name = "A", default_value_t = 0.1)]
     pub alpha: f32,
     /// How sphere lights are sampled.
-    #[arg(long, value_enum, default_value_t = SphereSamplingArg::Cone)]
-    pub sphere_sampling: SphereSamplingArg,
+    #[arg(long, value_name = "S", value_parser = sphere_sampling_parser(), default_value_t = SphereSampling::DEFAULT)]
+    pub sphere_sampling: SphereSampling,
     /// How a light is chosen among several (default: the scene's integrator block, else the
     /// kernel's default).
     #[arg(long, value_name = "S", value_parser = selection_parser())]
@@ -195,10 +195,7 @@ impl ViewState {
             beta,
             alpha,
             selection: args.light_selection.unwrap_or(loaded.file.default_light_selection()),
-            spheres: match args.sphere_sampling {
-                SphereSamplingArg::Area => SphereSampling::Area,
-                SphereSamplingArg::Cone => SphereSampling::Cone,
-            },
+            spheres: args.sphere_sampling,
             samples: loaded.file.default_samples(),
             seed: args.seed,
         };
@@ -227,11 +224,7 @@ impl ViewState {
 
     /// Light selection and sphere sampling, for the status line.
     pub fn sampling_label(&self) -> String {
-        let spheres = match self.spheres {
-            SphereSampling::Cone => "cone",
-            SphereSampling::Area => "area",
-        };
-        format!("{}, {spheres}", self.selection.name())
+        format!("{}, {}", self.selection.name(), self.spheres.name())
     }
 
     /// Applies a key; true if the image must be rendered again. Methods the scene cannot use
@@ -272,10 +265,9 @@ impl ViewState {
                 true
             }
             Action::SphereSampling => {
-                self.spheres = match self.spheres {
-                    SphereSampling::Cone => SphereSampling::Area,
-                    SphereSampling::Area => SphereSampling::Cone,
-                };
+                let all = SphereSampling::ALL;
+                let i = all.iter().position(|&s| s == self.spheres).unwrap_or(0);
+                self.spheres = all[step(i, 1, all.len())];
                 true
             }
             Action::Save | Action::Quit => false,

@@ -47,6 +47,8 @@ pub enum Field {
     CutoffAlpha,
     /// Probability of the light technique in the one-sample model.
     CLight,
+    /// Light samples following the receiver's lobe (a build without the `lobe` feature).
+    LobeMixing,
 }
 
 /// Which fixed-capacity collection of a scene is full.
@@ -155,6 +157,7 @@ impl fmt::Display for Field {
             Field::Beta => "power-heuristic beta",
             Field::CutoffAlpha => "cutoff alpha",
             Field::CLight => "c_light",
+            Field::LobeMixing => "lobe_mixing",
         })
     }
 }

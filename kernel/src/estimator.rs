@@ -366,6 +366,7 @@ fn light_sampler<'a, const S: usize, const L: usize, const M: usize>(
 ) -> LightSampler<'a, S, L, M> {
     LightSampler::new(scene, settings.light_selection(), settings.sphere_sampling())
         .with_quad_sampling(settings.quad_sampling())
+        .with_lobe_mixing(settings.lobe_mixing())
 }
 
 /// A sample that found light: its integrand value (not divided by any pdf for light samples;

@@ -59,6 +59,7 @@ pub mod ids;
 mod int_m0;
 pub mod light;
 pub mod light_importance;
+pub mod light_lobe;
 pub mod light_sampler;
 pub mod material;
 pub mod math;
@@ -88,6 +89,7 @@ pub use estimator::{
 };
 pub use ids::{LightId, MaterialId, ShapeId};
 pub use light::{Emission, Light, MAX_EMISSION};
+pub use light_lobe::LobeMixing;
 pub use light_sampler::{
     LightChoice, LightSample, LightSampler, LightSelection, QuadSampling, ShadingPoint, SphereSampling,
 };

@@ -14,6 +14,7 @@
 use crate::ids::{LightId, ShapeId};
 use crate::light::Light;
 use crate::light_importance::{Receiver, weighs_bsdf};
+use crate::light_lobe::{LOBE_SHARE, Lobe, LobeMixing};
 use crate::material::Material;
 use crate::math::{Frame, Rgb, Vec2, Vec3, dot, max0, positive_finite, safe_sqrt, sqrt};
 use crate::sampling::{
@@ -24,7 +25,7 @@ use crate::sampling::{
 };
 use crate::scene::Scene;
 use crate::shape::Rectangle;
-use crate::shape::{Shape, SurfacePoint};
+use crate::shape::{Ray, Shape, SurfacePoint};
 
 /// How points on sphere lights are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,6 +41,36 @@ pub enum SphereSampling {
 impl SphereSampling {
     /// The default strategy (a constant, for the settings' `const` constructors).
     pub const DEFAULT: Self = SphereSampling::Cone;
+
+    /// Every strategy: the lecture's, then the default.
+    pub const ALL: [SphereSampling; 2] = [SphereSampling::Area, SphereSampling::Cone];
+
+    /// The strategy's name (command line, reports).
+    pub fn name(self) -> &'static str {
+        match self {
+            SphereSampling::Area => "area",
+            SphereSampling::Cone => "cone",
+        }
+    }
+
+    /// One line about the strategy (command-line help).
+    pub fn summary(self) -> &'static str {
+        match self {
+            SphereSampling::Area => "uniformly by area (the lecture's formulation)",
+            SphereSampling::Cone => "uniformly in the cone the sphere subtends",
+        }
+    }
+
+    /// The strategy called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| s.name() == name)
+    }
+}
+
+impl core::fmt::Display for SphereSampling {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 impl Default for SphereSampling {
@@ -246,6 +277,7 @@ pub struct LightSampler<'a, const S: usize, const L: usize, const M: usize> {
     selection: LightSelection,
     spheres: SphereSampling,
     quads: QuadSampling,
+    lobe: LobeMixing,
 }
 
 impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, M> {
@@ -253,13 +285,21 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
     /// (and on quads by area, see [`LightSampler::with_quad_sampling`]).
     #[inline]
     pub fn new(scene: &'a Scene<S, L, M>, selection: LightSelection, spheres: SphereSampling) -> Self {
-        Self { scene, selection, spheres, quads: QuadSampling::Area }
+        Self { scene, selection, spheres, quads: QuadSampling::Area, lobe: LobeMixing::Off }
     }
 
     /// The same sampler drawing on quads by `quads`.
     #[inline]
     pub fn with_quad_sampling(mut self, quads: QuadSampling) -> Self {
         self.quads = quads;
+        self
+    }
+
+    /// The same sampler with light samples also following a glossy receiver's lobe
+    /// ([`LobeMixing`]; in a build without the `lobe` feature, as off).
+    #[inline]
+    pub fn with_lobe_mixing(mut self, lobe: LobeMixing) -> Self {
+        self.lobe = lobe;
         self
     }
 
@@ -372,9 +412,64 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
 
     /// Draws a point on `light` as seen from the shading point `at` with the random numbers `u`;
     /// `None` when the sample carries no light (see [`Light::sample_li`]) or the scene has no
-    /// such light.
+    /// such light. With [`LobeMixing::On`], where the receiver's lobe applies, a share of the
+    /// samples ([`LOBE_SHARE`], by `u.x`, rescaled) comes from the lobe instead, and the pdf is
+    /// the mixture's.
     #[inline]
     pub fn sample(&self, light: LightId, at: &ShadingPoint, u: Vec2) -> Option<LightSample> {
+        let Some((lobe, shape, radiance, emitter)) = self.lobe_towards(light, at) else {
+            return self.sample_light(light, at, u);
+        };
+        let own = 1.0 - LOBE_SHARE;
+        let s = if u.x < own {
+            self.sample_light(light, at, Vec2::new(u.x / own, u.y))?
+        } else {
+            let ray = Ray { origin: at.p, dir: lobe.sample(Vec2::new((u.x - own) / LOBE_SHARE, u.y))? };
+            let distance = shape.intersect(&ray, 0.0, f32::INFINITY)?;
+            let y = SurfacePoint { p: ray.at(distance), n: shape.normal_at(ray.at(distance)) };
+            if !(dot(y.n, ray.dir) < 0.0) {
+                return None; // the back of a quad: it emits nothing that way
+            }
+            let pdf = self.pdf_light(light, at, &y);
+            LightSample { wi: ray.dir, distance, radiance, pdf, delta: false, emitter: Some(emitter) }
+        };
+        let pdf = own * s.pdf + LOBE_SHARE * lobe.pdf(s.wi);
+        positive_finite(pdf).then_some(LightSample { pdf, ..s })
+    }
+
+    /// Pdf per unit solid angle at the shading point `at` with which [`LightSampler::sample`]
+    /// draws the direction to the point `y` of `light` (found by a BSDF ray), selection not
+    /// included; 0 for point lights.
+    #[inline]
+    pub fn pdf(&self, light: LightId, at: &ShadingPoint, y: &SurfacePoint) -> f32 {
+        let own = self.pdf_light(light, at, y);
+        let Some((lobe, ..)) = self.lobe_towards(light, at) else { return own };
+        let v = y.p - at.p;
+        let d2 = dot(v, v);
+        if !(d2 > 0.0) {
+            return 0.0;
+        }
+        (1.0 - LOBE_SHARE) * own + LOBE_SHARE * lobe.pdf(v / sqrt(d2))
+    }
+
+    /// The receiver's lobe towards the area light `light` (with its shape, radiance and
+    /// emitting shape), where [`LobeMixing::On`] applies at `at` ([`Lobe::towards`]).
+    #[inline(always)]
+    fn lobe_towards(&self, light: LightId, at: &ShadingPoint) -> Option<(Lobe, &'a Shape, Rgb, ShapeId)> {
+        if !LobeMixing::AVAILABLE || self.lobe != LobeMixing::On {
+            return None;
+        }
+        let light = self.scene.light(light)?;
+        let Light::Area { radiance, shape: emitter } = *light else { return None };
+        let shape = self.scene.light_shape(light)?;
+        let lobe = Lobe::towards(shape, at.p, at.n, at.wo, &at.bsdf)?;
+        Some((lobe, shape, radiance, emitter))
+    }
+
+    /// A point on `light` drawn by the light's own strategy (spheres by area or cone, quads by
+    /// area or solid angle).
+    #[inline]
+    fn sample_light(&self, light: LightId, at: &ShadingPoint, u: Vec2) -> Option<LightSample> {
         let x = at.p;
         let light = self.scene.light(light)?;
         let shape = self.scene.light_shape(light);
@@ -388,11 +483,9 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         light.sample_li(shape, x, u, self.spheres)
     }
 
-    /// Pdf per unit solid angle at the shading point `at` with which [`LightSampler::sample`]
-    /// draws the direction to the point `y` of `light` (found by a BSDF ray), selection not
-    /// included; 0 for point lights.
+    /// The pdf of [`LightSampler::sample_light`] drawing the direction to `y`.
     #[inline]
-    pub fn pdf(&self, light: LightId, at: &ShadingPoint, y: &SurfacePoint) -> f32 {
+    fn pdf_light(&self, light: LightId, at: &ShadingPoint, y: &SurfacePoint) -> f32 {
         let x = at.p;
         match self.scene.light(light) {
             Some(light) => {

@@ -3,8 +3,8 @@
 //! Pdfs are per unit solid angle for directions and per unit area for points.
 
 use crate::math::{
-    INV_PI, PI, Vec2, Vec3, atan2, clamp, finite3, max0, normalize_or, positive_finite, safe_sqrt,
-    sin_cos_quarter, sin_cos_turns, sqrt,
+    INV_PI, PI, Vec2, Vec3, atan2, clamp, dot, finite3, max0, normalize_or, positive_finite, safe_sqrt,
+    sin_cos_quarter, sin_cos_turns, sqrt, try_normalize,
 };
 
 /// Concentric map of the unit square to the unit disk (Shirley and Chiu 1997).
@@ -353,6 +353,188 @@ pub fn ggx_vndf_pdf(wo: Vec3, m: Vec3, alpha: f32) -> f32 {
     ggx_g1(wo, alpha) * max0(wo.dot(m)) * ggx_d(m, alpha) / wo.z
 }
 
+/// A box of GGX microfacet slopes, t0 <= s . g <= t1 along the unit `g` and w0 <= s . g' <= w1
+/// across it (g' = `g` turned by a quarter), and how the box is sampled: the coordinate along
+/// `g` from the marginal of the isotropic slope distribution P22(s) = 1 / (pi a^2 (1 + |s|^2 /
+/// a^2)^2) (Walter et al. 2007; D(m) cos^4(theta_m) = P22), cut to [t0, t1]; the coordinate
+/// across from a Cauchy distribution of scale b = sqrt(a^2 + t^2), cut to [w0, w1]. P22 is a
+/// bivariate Student t with 2 degrees of freedom: its marginal has the closed-form tail
+/// 1 - F(t) = 1/2 - t / (2 sqrt(a^2 + t^2)), and its conditional across, (2 b^3 / pi) /
+/// (b^2 + w^2)^2, is at most twice the Cauchy density, a heavier-tailed stand-in that inverts in
+/// closed form. The samples follow the glossy lobe inside the box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SlopeBox {
+    /// GGX alpha.
+    pub alpha: f32,
+    /// Unit direction of the first coordinate.
+    pub g: Vec2,
+    /// The box along `g`.
+    pub t: Vec2,
+    /// The box across `g`.
+    pub w: Vec2,
+    /// The marginal's tail beyond t1, 1 - F(t1).
+    tail: f32,
+    /// The marginal's mass in [t0, t1].
+    mass: f32,
+}
+
+/// The tail 1 - F(t) of P22's marginal, for t > 0 as a^2 / (2 r (r + t)) (r = sqrt(a^2 + t^2)),
+/// free of the cancellation of 1/2 - t / 2r.
+#[inline]
+fn slope_tail(a2: f32, t: f32) -> f32 {
+    let r = sqrt(a2 + t * t);
+    if t > 0.0 { a2 / (2.0 * r * (r + t)) } else { 0.5 - t / (2.0 * r) }
+}
+
+impl SlopeBox {
+    /// The box `t` (t0 <= t1) along the unit `g` and `w` (w0 <= w1) across it, for `alpha`;
+    /// `None` where the lobe's mass in the strip along `g` is not a positive f32.
+    #[inline]
+    pub fn new(alpha: f32, g: Vec2, t: Vec2, w: Vec2) -> Option<Self> {
+        let a2 = alpha * alpha;
+        let tail = slope_tail(a2, t.y);
+        let mass = slope_tail(a2, t.x) - tail;
+        (positive_finite(mass) && positive_finite(a2) && t.x <= t.y && w.x < w.y && (w.y - w.x).is_finite())
+            .then_some(Self { alpha, g, t, w, tail, mass })
+    }
+
+    /// The box of a GGX receiver's slopes (seen from local `wo`) that reflect into the cone of
+    /// unit `axis` and half-angle theta_max (local; `cos_max` and `sin_max` its cosine and
+    /// sine). Its near side is the tangent, in slope space, to the image of the cone's edge at
+    /// the edge's point nearest the mirror direction of `wo` (exact to first order there, where
+    /// the lobe meets the edge); its other sides are the bounds of the images of eight points of
+    /// the edge. `None` when the mirror direction is on the axis (no nearest edge), a half
+    /// vector of the edge is not above the receiver, or the box is not usable.
+    #[inline]
+    pub fn facing_cone(wo: Vec3, alpha: f32, axis: Vec3, cos_max: f32, sin_max: f32) -> Option<Self> {
+        let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
+        // The unit tangent at the axis towards the mirror direction, and the one across it.
+        let toward = try_normalize(mirror - axis * dot(mirror, axis))?;
+        let side = axis.cross(toward);
+        let edge = axis * cos_max + toward * sin_max;
+        // Slopes of half vectors v = wo + wi (unnormalized): s = -(v_x, v_y) / v_z, and the
+        // slope-space image of a direction dwi at the edge: -(dwi_xy v_z - v_xy dwi_z) / v_z^2.
+        let v = wo + edge;
+        let near = half_vector_slope(v)?;
+        let image = |d: Vec3| Vec2::new(v.x * d.z - d.x * v.z, v.y * d.z - d.y * v.z);
+        let along = image(side);
+        let inward = image(axis * sin_max - toward * cos_max);
+        let normal = Vec2::new(-along.y, along.x);
+        let g = if normal.dot(inward) < 0.0 { -normal } else { normal };
+        let len = sqrt(g.dot(g));
+        if !(len > 0.0 && len.is_finite()) {
+            return None;
+        }
+        let g = g / len;
+        let across = Vec2::new(-g.y, g.x);
+        const H: f32 = core::f32::consts::FRAC_1_SQRT_2;
+        const RING: [(f32, f32); 7] =
+            [(H, H), (0.0, 1.0), (-H, H), (-1.0, 0.0), (-H, -H), (0.0, -1.0), (H, -H)];
+        let (mut far, mut w) = (near.dot(g), Vec2::splat(near.dot(across)));
+        for (c, s) in RING {
+            let p = half_vector_slope(wo + axis * cos_max + (toward * c + side * s) * sin_max)?;
+            far = far.max(p.dot(g));
+            let q = p.dot(across);
+            w = Vec2::new(w.x.min(q), w.y.max(q));
+        }
+        Self::new(alpha, g, Vec2::new(near.dot(g), far), w)
+    }
+}
+
+impl SlopeBox {
+    /// The box of a GGX receiver's slopes (seen from local `wo`) that reflect towards the unit
+    /// local directions `outline` (points of a light's outline): `g` from the mirror
+    /// direction's slope (0) towards the slope of the unit direction `center`, the box the bounds
+    /// of the outline's slopes along and across it. `None` where a half vector is not above the
+    /// receiver or the box is not usable.
+    #[inline]
+    pub fn around(wo: Vec3, alpha: f32, center: Vec3, outline: &[Vec3]) -> Option<Self> {
+        let c = half_vector_slope(wo + center)?;
+        let len = sqrt(c.dot(c));
+        let g = if len > 0.0 && len.is_finite() { c / len } else { Vec2::X };
+        let across = Vec2::new(-g.y, g.x);
+        let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+        for d in outline {
+            let p = half_vector_slope(wo + *d)?;
+            let q = Vec2::new(p.dot(g), p.dot(across));
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+        Self::new(alpha, g, Vec2::new(lo.x, hi.x), Vec2::new(lo.y, hi.y))
+    }
+}
+
+/// The microfacet slope -(v_x, v_y) / v_z of the half vector along `v` (unnormalized), if `v`
+/// points above the surface.
+#[inline]
+fn half_vector_slope(v: Vec3) -> Option<Vec2> {
+    (v.z > 0.0).then(|| Vec2::new(-v.x / v.z, -v.y / v.z))
+}
+
+/// A slope from P22 in the box `h` (see [`SlopeBox`]): along `g` by inverting the marginal
+/// (t = a (1 - 2y) / (2 sqrt(y (1 - y))) for the tail y = 1 - F(t), drawn in its range), across
+/// by inverting the cut Cauchy distribution (w = b tan(angle), the angle uniform between
+/// atan(w0 / b) and atan(w1 / b)). `None` where the slope is not finite.
+#[inline]
+pub fn sample_ggx_slope_in(h: &SlopeBox, u: Vec2) -> Option<Vec2> {
+    let y = h.tail + h.mass * (1.0 - u.x);
+    let t = h.alpha * (1.0 - 2.0 * y) / (2.0 * sqrt(y * (1.0 - y)));
+    let b = sqrt(h.alpha * h.alpha + t * t);
+    let (a0, a1) = (atan2(h.w.x, b), atan2(h.w.y, b));
+    let (sin, cos) = sin_cos_turns((a0 + u.y * (a1 - a0)) * (0.5 * INV_PI));
+    let w = b * sin / cos;
+    let s = h.g * t + Vec2::new(-h.g.y, h.g.x) * w;
+    (s.x.is_finite() && s.y.is_finite()).then_some(s)
+}
+
+/// Pdf of [`sample_ggx_slope_in`] per unit area of slopes: the marginal a^2 / (2 b^3) over its
+/// mass in the box times the cut Cauchy density b / ((b^2 + w^2) (atan(w1 / b) - atan(w0 / b)));
+/// 0 outside the box.
+#[inline]
+pub fn ggx_slope_in_pdf(h: &SlopeBox, s: Vec2) -> f32 {
+    let t = s.dot(h.g);
+    let w = h.g.x * s.y - h.g.y * s.x;
+    if !(t >= h.t.x && t <= h.t.y && w >= h.w.x && w <= h.w.y) {
+        return 0.0;
+    }
+    let b2 = h.alpha * h.alpha + t * t;
+    let b = sqrt(b2);
+    let spread = atan2(h.w.y, b) - atan2(h.w.x, b);
+    let pdf = h.alpha * h.alpha / (2.0 * b2 * h.mass * (b2 + w * w) * spread);
+    if pdf.is_finite() { pdf } else { 0.0 }
+}
+
+/// A reflected direction `wi` (local) off a microfacet whose slope is drawn in the box `h`
+/// ([`sample_ggx_slope_in`]), for the local `wo`; `None` when it is not above the surface.
+#[inline]
+pub fn sample_ggx_reflection_in(wo: Vec3, h: &SlopeBox, u: Vec2) -> Option<Vec3> {
+    let s = sample_ggx_slope_in(h, u)?;
+    let m = try_normalize(Vec3::new(-s.x, -s.y, 1.0))?;
+    let wo_m = dot(wo, m);
+    if !(wo_m > 0.0 && wo.z > 0.0) {
+        return None;
+    }
+    let wi = m * (2.0 * wo_m) - wo;
+    (wi.z > 0.0).then_some(wi)
+}
+
+/// Pdf of [`sample_ggx_reflection_in`] per unit solid angle of `wi`: the slope density over
+/// cos^3(theta_m) (slopes to normals) and 4 wo.m (normals to reflected directions).
+#[inline]
+pub fn ggx_reflection_in_pdf(wo: Vec3, h: &SlopeBox, wi: Vec3) -> f32 {
+    if !(wo.z > 0.0 && wi.z > 0.0) {
+        return 0.0;
+    }
+    let Some(m) = try_normalize(wo + wi) else { return 0.0 };
+    let wo_m = dot(wo, m);
+    if !(m.z > 0.0 && wo_m > 0.0) {
+        return 0.0;
+    }
+    let s = Vec2::new(-m.x / m.z, -m.y / m.z);
+    let pdf = ggx_slope_in_pdf(h, s) / (m.z * m.z * m.z * 4.0 * wo_m);
+    if pdf.is_finite() { pdf } else { 0.0 }
+}
+
 /// An entry drawn from a discrete distribution with 32 random bits (see
 /// [`Sampler::next_2d_reusable`](crate::rng::Sampler::next_2d_reusable)), and the bits rescaled
 /// within the entry's share: given the entry, `reused` is uniform in [0, 1) and independent of
@@ -584,6 +766,68 @@ mod tests {
         assert_eq!(bilinear_pdf(Vec2::new(1.5, 0.5), [1.0; 4]), 0.0);
         assert_eq!(sample_linear(0.0, 0.0, 1.0), 0.0);
         assert!(sample_linear(0.999_999_94, 1.0, 0.0) < 1.0);
+    }
+
+    /// On a 256 x 256 grid of `u`, the mean of 1 / pdf over the box's samples is the box's
+    /// area, and of f / pdf the integral of f over it: the pdf is the samples' density.
+    #[test]
+    fn slope_box_samples_follow_their_pdf() {
+        let n = 256;
+        for (alpha, t, w) in [
+            (0.02, Vec2::new(0.01, 0.09), Vec2::new(-0.05, 0.04)),
+            (0.3, Vec2::new(-0.2, 0.5), Vec2::new(-0.1, 0.3)),
+            (1e-3, Vec2::new(0.05, 0.2), Vec2::new(-0.02, 0.02)),
+        ] {
+            let g = Vec2::new(0.6, -0.8);
+            let b = SlopeBox::new(alpha, g, t, w).unwrap();
+            let area = f64::from((t.y - t.x) * (w.y - w.x));
+            let (mut inv, mut lin) = (0.0f64, 0.0f64);
+            for i in 0..n {
+                for j in 0..n {
+                    let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                    let s = sample_ggx_slope_in(&b, u).unwrap();
+                    let pdf = f64::from(ggx_slope_in_pdf(&b, s));
+                    assert!(pdf > 0.0, "{alpha} {s}");
+                    inv += 1.0 / pdf;
+                    lin += f64::from(s.dot(g)) / pdf;
+                }
+            }
+            let (inv, lin) = (inv / f64::from(n * n), lin / f64::from(n * n));
+            // The integral of t over the box: (t1^2 - t0^2) / 2 (w1 - w0).
+            let lin_exact = f64::from((t.y * t.y - t.x * t.x) / 2.0 * (w.y - w.x));
+            assert!((inv / area - 1.0).abs() < 1e-3, "alpha {alpha}: {inv} vs area {area}");
+            assert!((lin / lin_exact - 1.0).abs() < 1e-3, "alpha {alpha}: {lin} vs {lin_exact}");
+            // Outside the box, nothing.
+            assert_eq!(ggx_slope_in_pdf(&b, g * (t.x - 1e-3)), 0.0);
+        }
+    }
+
+    /// The lobe samples of the box facing a cone mostly reflect into the cone when the mirror
+    /// direction lies just outside its edge (where the lobe alone would mostly miss it).
+    #[test]
+    fn the_slope_box_faces_the_cone() {
+        let wo = Vec3::new(0.3, -0.1, 0.9).normalize();
+        let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
+        // A cone of half-angle 0.1 whose edge passes 0.01 from the mirror direction.
+        let theta = 0.1f32;
+        let f = crate::math::Frame::from_normal(mirror);
+        let tilt = theta + 0.01;
+        let axis = (mirror * tilt.cos() + f.t * tilt.sin()).normalize();
+        let alpha = 0.01;
+        let b = SlopeBox::facing_cone(wo, alpha, axis, theta.cos(), theta.sin()).unwrap();
+        let (mut inside, mut total) = (0, 0);
+        for i in 0..64 {
+            for j in 0..64 {
+                let u = Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
+                let Some(wi) = sample_ggx_reflection_in(wo, &b, u) else { continue };
+                total += 1;
+                inside += usize::from(dot(wi, axis) >= theta.cos());
+                let pdf = ggx_reflection_in_pdf(wo, &b, wi);
+                assert!(pdf > 0.0 && pdf.is_finite());
+            }
+        }
+        // (About three in four: the near side is the edge's tangent, which the edge leaves.)
+        assert!(total > 4000 && inside * 10 > total * 6, "{inside} of {total} in the cone");
     }
 
     #[test]

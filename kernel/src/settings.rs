@@ -1,6 +1,7 @@
 //! Render settings: which techniques, how many samples, how they are combined, and the seed.
 
 use crate::error::{Field, SceneError};
+use crate::light_lobe::LobeMixing;
 use crate::light_sampler::{LightSelection, QuadSampling, SphereSampling};
 use crate::mis::Method;
 use crate::model::MisModel;
@@ -21,6 +22,7 @@ pub struct RenderSettings {
     quads: QuadSampling,
     control_variate: ControlVariate,
     sampler: SamplerKind,
+    lobe: LobeMixing,
 }
 
 /// Whether the unoccluded light reaching a Lambertian receiver is computed in closed form, with
@@ -78,6 +80,7 @@ impl RenderSettings {
             quads: QuadSampling::DEFAULT,
             control_variate: ControlVariate::DEFAULT,
             sampler: SamplerKind::DEFAULT,
+            lobe: LobeMixing::DEFAULT,
         })
     }
 
@@ -122,6 +125,16 @@ impl RenderSettings {
     pub const fn with_sampler(mut self, sampler: SamplerKind) -> Self {
         self.sampler = sampler;
         self
+    }
+
+    /// The same settings with light samples that also follow a glossy receiver's lobe, or not;
+    /// [`LobeMixing::On`] is an error in a build without the kernel's `lobe` feature.
+    pub const fn with_lobe_mixing(mut self, lobe: LobeMixing) -> Result<Self, SceneError> {
+        self.lobe = match lobe.validated() {
+            Ok(l) => l,
+            Err(e) => return Err(e),
+        };
+        Ok(self)
     }
 
     /// The same settings with another seed.
@@ -195,6 +208,10 @@ impl RenderSettings {
     /// Sample stream.
     pub fn sampler(&self) -> SamplerKind {
         self.sampler
+    }
+    /// Whether light samples also follow a glossy receiver's lobe.
+    pub fn lobe_mixing(&self) -> LobeMixing {
+        self.lobe
     }
 }
 

@@ -7,7 +7,7 @@
 //! (alpha 1e-4 to 1) or black, some emitting (radiance 0 or 1e-2 to 1e5), plus up to two point
 //! lights (intensity 0 or 1e-2 to 1e3) and a random camera. Settings are random too: every
 //! method (power beta 0.25 to 4, cutoff alpha 0 to 1), 0 to 3 samples per technique, 1 to 3
-//! camera samples, any seed, sphere lights by area or cone, every light selection (uniform, by power,
+//! camera samples, any seed, sphere lights by area or cone, with and without lobe mixing, every light selection (uniform, by power,
 //! by contribution).
 //!
 //! Properties:
@@ -45,8 +45,8 @@ use embedded_graphics_core::primitives::{PointsIter, Rectangle};
 use picomis::math::Frame;
 use picomis::sampling::{sample_cosine_hemisphere, sample_uniform_sphere};
 use picomis::{
-    CameraDesc, Estimate, Film, FovAxis, Heuristic, Light, LightId, LightSampler, LightSelection, Material,
-    Method, QuadSampling, Ray, RenderSettings, Rgb, Sampler, Scene, ShadingPoint, Shape, ShapeId,
+    CameraDesc, Estimate, Film, FovAxis, Heuristic, Light, LightId, LightSampler, LightSelection, LobeMixing,
+    Material, Method, QuadSampling, Ray, RenderSettings, Rgb, Sampler, Scene, ShadingPoint, Shape, ShapeId,
     SphereSampling, SurfacePoint, Vec3, render, render_pixel, render_tile, tiles, tone_map,
 };
 use proptest::prelude::*;
@@ -256,12 +256,18 @@ fn settings() -> impl Strategy<Value = RenderSettings> {
     let quads = prop::sample::select(QuadSampling::ALL.to_vec());
     (method, 0u16..=3, 0u16..=3, 1u32..=3, any::<u32>(), any::<bool>(), selection, quads).prop_map(
         |(method, n_light, n_bsdf, spp, seed, cone, selection, quads)| {
+            // Lobe mixing by the seed's low bit (the other draws stay those of the cases before
+            // it existed).
+            let spheres = if cone { SphereSampling::Cone } else { SphereSampling::Area };
+            let lobe = LobeMixing::ALL[(seed & 1) as usize];
             let s = RenderSettings::new(method, n_light, n_bsdf, spp, seed)
                 .or_else(|_| RenderSettings::new(method, n_light.max(1), n_bsdf.max(1), spp, seed))
                 .unwrap();
-            s.with_sphere_sampling(if cone { SphereSampling::Cone } else { SphereSampling::Area })
+            s.with_sphere_sampling(spheres)
                 .with_light_selection(LightSelection::ALL[selection])
                 .with_quad_sampling(quads)
+                .with_lobe_mixing(lobe)
+                .unwrap()
         },
     )
 }
@@ -533,10 +539,13 @@ fn check_sample_pdf(
     let y = SurfacePoint { p: yp, n: shape.normal_at(yp) };
     let again = lights.pdf(light, at, &y);
     prop_assert!(pdf_ok(again), "{what}: light_pdf {again}");
-    let by_cone = match (spheres, shape.as_sphere()) {
-        (SphereSampling::Cone, Some((c, r))) => (c - p).length_squared() > r * r,
-        _ => false,
-    };
+    let outside = |(c, r): (Vec3, f32)| (c - p).length_squared() > r * r;
+    // With lobe mixing at a GGX receiver, the lobe's part of the pdf depends on the direction:
+    // re-evaluated from the point, to the rounding of the direction through the GGX lobe (at
+    // most 1/alpha per unit of angle), plus the light's own part's rounding.
+    let by_lobe = settings.lobe_mixing() == LobeMixing::On
+        && picomis::light_lobe::Lobe::towards(shape, p, at.n, at.wo, &at.bsdf).is_some();
+    let by_cone = spheres == SphereSampling::Cone && shape.as_sphere().is_some_and(outside) && !by_lobe;
     let cos_y = y.n.dot(-ls.wi);
     // Rounding of the re-constructed point (~1e-7 of the coordinates) moves the pdf
     // p_A d^2 / cos(theta_y) by about that error over the distance, and over the radius
@@ -547,6 +556,16 @@ fn check_sample_pdf(
     if by_cone {
         prop_assert_eq!(again, ls.pdf, "{}: cone pdf re-evaluated", what);
         Ok("light sample pdf re-evaluated (cone)")
+    } else if by_lobe {
+        let Material::GgxConductor { alpha, .. } = at.bsdf else { unreachable!() };
+        let tol = tol + 64.0 * err / (ls.distance * alpha);
+        if tol < 1e-2 {
+            let rel = (again / ls.pdf - 1.0).abs();
+            prop_assert!(rel < tol, "{what}: lobe-mixing pdf {again} vs sample pdf {} (rel {rel:e})", ls.pdf);
+            Ok("light sample pdf re-evaluated (lobe mixing)")
+        } else {
+            Ok("light sample pdf not re-evaluated (rounding)")
+        }
     } else if cos_y > 0.0 && tol < 1e-2 {
         let rel = (again / ls.pdf - 1.0).abs();
         prop_assert!(
@@ -570,6 +589,7 @@ fn pdfs_are_finite_and_weights_partition_unity() {
     tally.require(&[
         ("light sample with f > 0", 15_000),
         ("light sample pdf re-evaluated (cone)", 13_000),
+        ("light sample pdf re-evaluated (lobe mixing)", 2_000),
         ("light sample pdf re-evaluated (area)", 20_000),
         ("BSDF sample hitting a light", 6_000),
         ("BSDF sample hitting a light, GGX alpha < 1e-3", 600),
@@ -584,8 +604,8 @@ fn point_lights_have_no_light_pdf() {
     scene.add_point_light(Vec3::Y, Rgb::ONE).unwrap();
     assert!(matches!(scene.lights()[0], Light::Point { .. }));
     let y = SurfacePoint { p: Vec3::Y, n: -Vec3::Y };
-    for spheres in [SphereSampling::Area, SphereSampling::Cone] {
-        let lights = LightSampler::new(&scene, LightSelection::Uniform, spheres);
+    for (spheres, lobe) in SphereSampling::ALL.into_iter().zip(LobeMixing::ALL) {
+        let lights = LightSampler::new(&scene, LightSelection::Uniform, spheres).with_lobe_mixing(lobe);
         let at = ShadingPoint {
             p: Vec3::ZERO,
             n: Vec3::Y,

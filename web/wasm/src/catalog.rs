@@ -17,9 +17,9 @@ pub const DEFAULT_SCENE: &str = "veach_mis";
 /// The methods, by index: the kernel's list (each with its default parameters).
 pub const METHODS: [Method; Method::ALL.len()] = Method::ALL;
 
-/// Sphere-light sampling strategies, by index (named as `picomis-sim render --sphere-sampling`).
-pub const SPHERE_SAMPLING: [(&str, SphereSampling); 2] =
-    [("area", SphereSampling::Area), ("cone", SphereSampling::Cone)];
+/// Sphere-light sampling strategies, by index: the kernel's list (named as `picomis-sim render
+/// --sphere-sampling`).
+pub const SPHERE_SAMPLING: [SphereSampling; SphereSampling::ALL.len()] = SphereSampling::ALL;
 
 /// Light-selection strategies, by index: the kernel's list (named as `picomis-sim render
 /// --light-selection`).
@@ -36,10 +36,6 @@ pub fn method_parts(m: Method) -> (usize, f32, f32) {
 pub fn method(index: usize, beta: f32, alpha: f32) -> Result<Method, String> {
     let m = METHODS.get(index).ok_or_else(|| format!("no method number {index}"))?;
     m.with_parameters(Some(beta), Some(alpha)).map_err(|e| format!("{m}: {e}"))
-}
-
-fn index_of<T: PartialEq + Default>(list: &[(&str, T)]) -> usize {
-    list.iter().position(|(_, v)| *v == T::default()).unwrap_or(0)
 }
 
 /// Everything the page needs to build its controls, as JSON: scenes with their film and the
@@ -65,8 +61,8 @@ pub fn info() -> Value {
         "scenes": scenes,
         "default_scene": SCENES.iter().position(|b| b.name == DEFAULT_SCENE).unwrap_or(0),
         "methods": METHODS.map(|m| m.name()),
-        "sphere_sampling": SPHERE_SAMPLING.map(|(n, _)| n),
-        "default_sphere_sampling": index_of(&SPHERE_SAMPLING),
+        "sphere_sampling": SPHERE_SAMPLING.map(SphereSampling::name),
+        "default_sphere_sampling": SPHERE_SAMPLING.iter().position(|s| *s == SphereSampling::default()).unwrap_or(0),
         "light_selection": LIGHT_SELECTION.map(LightSelection::name),
         "default_light_selection": LIGHT_SELECTION.iter().position(|s| *s == LightSelection::default()).unwrap_or(0),
     })

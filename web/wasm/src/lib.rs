@@ -67,7 +67,7 @@ impl Request {
         let settings = RenderSettings::new(method, n_light, n_bsdf, 1, self.seed)
             .map_err(|e| format!("{name} with {n_light} light + {n_bsdf} BSDF samples: {e}"))?
             .with_sphere_sampling(
-                SPHERE_SAMPLING[pick(self.spheres, SPHERE_SAMPLING.len(), "sphere sampling")?].1,
+                SPHERE_SAMPLING[pick(self.spheres, SPHERE_SAMPLING.len(), "sphere sampling")?],
             )
             .with_light_selection(
                 LIGHT_SELECTION[pick(self.selection, LIGHT_SELECTION.len(), "light selection")?],
