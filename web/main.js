@@ -2,7 +2,7 @@
 // the kernel in WebAssembly; this file only moves bytes into canvases.
 //
 // URL parameters set the controls (and make runs reproducible, e.g. for scripts/web.sh test):
-//   scene, method, beta, alpha, light, bsdf, selection, spheres, seed, spp (stop at),
+//   scene, method, beta, alpha, light, bsdf, selection, spheres, lobe, seed, spp (stop at),
 //   pass (camera samples per pixel per pass; default: adaptive), test=1 (when done, write the
 //   canvas pixels and the linear radiance into #test-result as JSON).
 'use strict';
@@ -70,6 +70,7 @@ function start() {
     bsdf: Math.max(0, Math.floor(num('bsdf', 1))),
     selection: Number($('selection').value),
     spheres: Number($('spheres').value),
+    lobe: Number($('lobe').value),
     seed: Math.floor(num('seed', 0)) >>> 0,
     target: Math.max(0, Math.floor(num('target', 0))),
     pass: Math.max(0, Math.floor(Number(params.get('pass')) || 0)),
@@ -149,6 +150,7 @@ worker.onmessage = (e) => {
     option($('method'), info.methods);
     option($('selection'), info.light_selection);
     option($('spheres'), info.sphere_sampling);
+    option($('lobe'), info.lobe_mixing);
     drawBar(m.colorbar);
     const scene = indexOf(info.scenes.map((s) => s.name), params.get('scene'), info.default_scene);
     $('scene').value = String(scene);
@@ -158,6 +160,7 @@ worker.onmessage = (e) => {
     if (params.has('spp')) $('target').value = params.get('spp');
     $('selection').value = String(indexOf(info.light_selection, params.get('selection'), info.default_light_selection));
     $('spheres').value = String(indexOf(info.sphere_sampling, params.get('spheres'), info.default_sphere_sampling));
+    $('lobe').value = String(indexOf(info.lobe_mixing, params.get('lobe'), info.default_lobe_mixing));
     start();
   } else if (m.type === 'frame') {
     if (m.id === jobs) draw(m);

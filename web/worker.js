@@ -37,7 +37,7 @@ async function load() {
 
 function start(p) {
   const id = ++jobId;
-  const ok = wasm.setup(p.scene, p.method, p.beta, p.alpha, p.light, p.bsdf, p.spheres, p.selection, p.seed);
+  const ok = wasm.setup(p.scene, p.method, p.beta, p.alpha, p.light, p.bsdf, p.spheres, p.lobe, p.selection, p.seed);
   if (ok !== 0) {
     job = null;
     postMessage({ type: 'error', id, message: text(wasm.message_ptr(), wasm.message_len()) });

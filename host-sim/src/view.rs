@@ -13,11 +13,12 @@ use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::Size;
 use embedded_graphics_core::pixelcolor::{Rgb565, Rgb888};
 use picomis::{
-    Estimate, Heuristic, LightSelection, Method, RenderSettings, RenderStats, Scene, SphereSampling,
+    Estimate, Heuristic, LightSelection, LobeMixing, Method, RenderSettings, RenderStats, Scene,
+    SphereSampling,
 };
 
 use crate::SimError;
-use crate::cli::{selection_parser, sphere_sampling_parser};
+use crate::cli::{OnOff, selection_parser, sphere_sampling_parser};
 use crate::figure;
 use crate::scenes::Loaded;
 
@@ -63,6 +64,9 @@ pub struct ViewArgs {
     /// kernel's default).
     #[arg(long, value_name = "S", value_parser = selection_parser())]
     pub light_selection: Option<LightSelection>,
+    /// Light samples also from a glossy receiver's lobe.
+    #[arg(long, value_enum, default_value_t = OnOff::Off)]
+    pub lobe_mixing: OnOff,
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -134,6 +138,8 @@ pub enum Action {
     LightSelection,
     /// Sphere sampling: by area or in the cone (`s`).
     SphereSampling,
+    /// Lobe mixing on or off (`g`).
+    LobeMixing,
     /// Save the last complete pass as PNG (`p`).
     Save,
     /// Close the window (`q`, Escape).
@@ -142,9 +148,10 @@ pub enum Action {
 
 /// The keys, for the help text.
 pub const KEYS: &str = "keys: m/M method, v/V view, b/B beta +-0.5, a/A alpha +-0.05, l light selection, \
-s sphere sampling, p save PNG, q quit";
+s sphere sampling, g lobe mixing, p save PNG, q quit";
 
-/// What the keys change: method, view, beta, alpha, light selection and sphere sampling.
+/// What the keys change: method, view, beta, alpha, light selection, sphere sampling and lobe
+/// mixing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ViewState {
     /// Index into [`Method::ALL`].
@@ -159,6 +166,8 @@ pub struct ViewState {
     pub selection: LightSelection,
     /// Sphere sampling.
     pub spheres: SphereSampling,
+    /// Lobe mixing.
+    pub lobe: LobeMixing,
     /// Light and BSDF samples per camera sample (the scene's).
     pub samples: (u16, u16),
     /// Seed.
@@ -196,6 +205,10 @@ impl ViewState {
             alpha,
             selection: args.light_selection.unwrap_or(loaded.file.default_light_selection()),
             spheres: args.sphere_sampling,
+            lobe: match args.lobe_mixing {
+                OnOff::On => LobeMixing::On,
+                OnOff::Off => LobeMixing::Off,
+            },
             samples: loaded.file.default_samples(),
             seed: args.seed,
         };
@@ -210,7 +223,10 @@ impl ViewState {
         let method = method_at(self.method, self.beta, self.alpha)?;
         let (n_light, n_bsdf) = self.samples;
         let s = RenderSettings::new(method, n_light, n_bsdf, spp, self.seed).map_err(|e| e.to_string())?;
-        Ok(s.with_light_selection(self.selection).with_sphere_sampling(self.spheres))
+        s.with_light_selection(self.selection)
+            .with_sphere_sampling(self.spheres)
+            .with_lobe_mixing(self.lobe)
+            .map_err(|e| e.to_string())
     }
 
     /// The method with its parameter, for the status line.
@@ -222,9 +238,10 @@ impl ViewState {
         }
     }
 
-    /// Light selection and sphere sampling, for the status line.
+    /// Light selection, sphere sampling and lobe mixing, for the status line.
     pub fn sampling_label(&self) -> String {
-        format!("{}, {}", self.selection.name(), self.spheres.name())
+        let lobe = if self.lobe == LobeMixing::On { ", lobe" } else { "" };
+        format!("{}, {}{lobe}", self.selection.name(), self.spheres.name())
     }
 
     /// Applies a key; true if the image must be rendered again. Methods the scene cannot use
@@ -268,6 +285,12 @@ impl ViewState {
                 let all = SphereSampling::ALL;
                 let i = all.iter().position(|&s| s == self.spheres).unwrap_or(0);
                 self.spheres = all[step(i, 1, all.len())];
+                true
+            }
+            Action::LobeMixing => {
+                let all = LobeMixing::ALL;
+                let i = all.iter().position(|&l| l == self.lobe).unwrap_or(0);
+                self.lobe = all[step(i, 1, all.len())];
                 true
             }
             Action::Save | Action::Quit => false,
@@ -376,6 +399,7 @@ mod tests {
         assert_eq!(views.last(), Some(&View::Image));
         assert_eq!(views.len(), View::ALL.len());
         assert!(s.apply(Action::LightSelection) && s.apply(Action::SphereSampling));
+        assert!(s.apply(Action::LobeMixing) && s.lobe == LobeMixing::On && s.settings(1).is_ok());
         assert_eq!(s.sampling_label(), "power, area");
         assert!(!s.apply(Action::Save));
     }

@@ -87,6 +87,10 @@ impl core::fmt::Display for LobeMixing {
 /// at every GGX receiver, 3.96e-4 without the lobe.)
 pub const LOBE_NARROWER: f32 = 0.5;
 
+/// The lobe does not apply where its box of slopes holds every slope within this many alphas of
+/// the mirror direction: the lobe lies inside the light, and BSDF sampling finds it.
+pub const LOBE_INSIDE: f32 = 10.0;
+
 /// The lobe's share of the light samples where it applies. (Veach as above: 1.99e-4 at 3/4,
 /// 2.12e-4 at 1/2, 2.54e-4 at 1/4.)
 pub const LOBE_SHARE: f32 = 0.75;
@@ -154,6 +158,12 @@ impl Lobe {
             }
             (None, None) => None,
         }?;
+        // A lobe well inside the light: BSDF sampling alone finds it (its samples reach the
+        // light but for the lobe's tail beyond LOBE_INSIDE alpha, ~1 %), and a mixture would
+        // only add the light part's variance to it.
+        if slopes.holds_disc(LOBE_INSIDE * alpha) {
+            return None;
+        }
         Some(Lobe { frame, wo, slopes })
     }
 

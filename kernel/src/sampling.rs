@@ -354,14 +354,12 @@ pub fn ggx_vndf_pdf(wo: Vec3, m: Vec3, alpha: f32) -> f32 {
 }
 
 /// A box of GGX microfacet slopes, t0 <= s . g <= t1 along the unit `g` and w0 <= s . g' <= w1
-/// across it (g' = `g` turned by a quarter), and how the box is sampled: the coordinate along
-/// `g` from the marginal of the isotropic slope distribution P22(s) = 1 / (pi a^2 (1 + |s|^2 /
-/// a^2)^2) (Walter et al. 2007; D(m) cos^4(theta_m) = P22), cut to [t0, t1]; the coordinate
-/// across from a Cauchy distribution of scale b = sqrt(a^2 + t^2), cut to [w0, w1]. P22 is a
-/// bivariate Student t with 2 degrees of freedom: its marginal has the closed-form tail
-/// 1 - F(t) = 1/2 - t / (2 sqrt(a^2 + t^2)), and its conditional across, (2 b^3 / pi) /
-/// (b^2 + w^2)^2, is at most twice the Cauchy density, a heavier-tailed stand-in that inverts in
-/// closed form. The samples follow the glossy lobe inside the box.
+/// across it (g' = `g` turned by a quarter), sampled by the isotropic slope distribution
+/// P22(s) = 1 / (pi a^2 (1 + |s|^2 / a^2)^2) (Walter et al. 2007; D(m) cos^4(theta_m) = P22)
+/// restricted to it: the samples follow the glossy lobe inside the box. P22 is a bivariate
+/// Student t with 2 degrees of freedom: its marginal along `g` has the closed-form tail
+/// 1 - F(t) = 1/2 - t / (2 sqrt(a^2 + t^2)), and its conditional across, of scale
+/// b = sqrt(a^2 + t^2), is (2 b^3 / pi) / (b^2 + w^2)^2 (see [`sample_ggx_slope_in`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SlopeBox {
     /// GGX alpha.
@@ -464,6 +462,14 @@ impl SlopeBox {
     }
 }
 
+impl SlopeBox {
+    /// Whether the box holds every slope within `radius` of the mirror direction's (0).
+    #[inline]
+    pub fn holds_disc(&self, radius: f32) -> bool {
+        self.t.x < -radius && self.t.y > radius && self.w.x < -radius && self.w.y > radius
+    }
+}
+
 /// The microfacet slope -(v_x, v_y) / v_z of the half vector along `v` (unnormalized), if `v`
 /// points above the surface.
 #[inline]
@@ -471,25 +477,61 @@ fn half_vector_slope(v: Vec3) -> Option<Vec2> {
     (v.z > 0.0).then(|| Vec2::new(-v.x / v.z, -v.y / v.z))
 }
 
+/// The most Newton steps of [`invert_across_cdf`] (10 reach f32's precision in the unit tests).
+const ACROSS_STEPS: usize = 12;
+
+/// G(psi) = psi + sin(psi): across `g`, P22's conditional (2 b^3 / pi) / (b^2 + w^2)^2 has, in
+/// psi = 2 atan(w / b), the distribution G(psi) / (2 pi) + 1/2.
+#[inline]
+fn across_cdf(psi: f32) -> f32 {
+    psi + sin_cos_turns(psi * (0.5 * INV_PI)).0
+}
+
+/// The psi in [lo, hi] with G(psi) = c (G increasing, G(lo) <= c <= G(hi)): Newton's method from
+/// `guess`, kept inside the bracket it narrows (bisection where a step would leave it), until a
+/// step changes nothing or [`ACROSS_STEPS`] (G' = 1 + cos(psi) is flat only towards +-pi).
+#[inline]
+fn invert_across_cdf(c: f32, mut lo: f32, mut hi: f32, guess: f32) -> f32 {
+    let mut psi = guess;
+    for _ in 0..ACROSS_STEPS {
+        let (sin, cos) = sin_cos_turns(psi * (0.5 * INV_PI));
+        let g = psi + sin - c;
+        if g > 0.0 {
+            hi = psi;
+        } else {
+            lo = psi;
+        }
+        let next = psi - g / (1.0 + cos);
+        let next = if next > lo && next < hi { next } else { 0.5 * (lo + hi) };
+        if next == psi {
+            break;
+        }
+        psi = next;
+    }
+    psi
+}
+
 /// A slope from P22 in the box `h` (see [`SlopeBox`]): along `g` by inverting the marginal
 /// (t = a (1 - 2y) / (2 sqrt(y (1 - y))) for the tail y = 1 - F(t), drawn in its range), across
-/// by inverting the cut Cauchy distribution (w = b tan(angle), the angle uniform between
-/// atan(w0 / b) and atan(w1 / b)). `None` where the slope is not finite.
+/// by inverting the conditional cut to [w0, w1] ([`across_cdf`]: psi = 2 atan(w / b) with
+/// G(psi) uniform between its values at the box's sides). `None` where the slope is not finite.
 #[inline]
 pub fn sample_ggx_slope_in(h: &SlopeBox, u: Vec2) -> Option<Vec2> {
     let y = h.tail + h.mass * (1.0 - u.x);
     let t = h.alpha * (1.0 - 2.0 * y) / (2.0 * sqrt(y * (1.0 - y)));
     let b = sqrt(h.alpha * h.alpha + t * t);
-    let (a0, a1) = (atan2(h.w.x, b), atan2(h.w.y, b));
-    let (sin, cos) = sin_cos_turns((a0 + u.y * (a1 - a0)) * (0.5 * INV_PI));
+    let (psi0, psi1) = (2.0 * atan2(h.w.x, b), 2.0 * atan2(h.w.y, b));
+    let (g0, g1) = (across_cdf(psi0), across_cdf(psi1));
+    let psi = invert_across_cdf(g0 + u.y * (g1 - g0), psi0, psi1, psi0 + u.y * (psi1 - psi0));
+    let (sin, cos) = sin_cos_turns(psi * (0.25 * INV_PI));
     let w = b * sin / cos;
     let s = h.g * t + Vec2::new(-h.g.y, h.g.x) * w;
     (s.x.is_finite() && s.y.is_finite()).then_some(s)
 }
 
-/// Pdf of [`sample_ggx_slope_in`] per unit area of slopes: the marginal a^2 / (2 b^3) over its
-/// mass in the box times the cut Cauchy density b / ((b^2 + w^2) (atan(w1 / b) - atan(w0 / b)));
-/// 0 outside the box.
+/// Pdf of [`sample_ggx_slope_in`] per unit area of slopes: P22 over its mass in the box, as the
+/// marginal a^2 / (2 b^3) over its mass along `g` times the conditional cut to the box,
+/// 4 b^3 / ((b^2 + w^2)^2 (G(psi1) - G(psi0))); 0 outside the box.
 #[inline]
 pub fn ggx_slope_in_pdf(h: &SlopeBox, s: Vec2) -> f32 {
     let t = s.dot(h.g);
@@ -499,8 +541,9 @@ pub fn ggx_slope_in_pdf(h: &SlopeBox, s: Vec2) -> f32 {
     }
     let b2 = h.alpha * h.alpha + t * t;
     let b = sqrt(b2);
-    let spread = atan2(h.w.y, b) - atan2(h.w.x, b);
-    let pdf = h.alpha * h.alpha / (2.0 * b2 * h.mass * (b2 + w * w) * spread);
+    let spread = across_cdf(2.0 * atan2(h.w.y, b)) - across_cdf(2.0 * atan2(h.w.x, b));
+    let q = b2 + w * w;
+    let pdf = 2.0 * h.alpha * h.alpha / (h.mass * q * q * spread);
     if pdf.is_finite() { pdf } else { 0.0 }
 }
 

@@ -42,8 +42,8 @@
 //! README holds its rows, and the test fails if one is missing.
 
 use picomis::{
-    Arith, ControlVariate, Film, Hit, LightSelection, Material, MaterialId, Method, QuadSampling, Ray,
-    RenderSettings, Rgb, Scene, SceneError, Shape, SphereSampling, Technique, Unrepresentable, Vec3,
+    Arith, ControlVariate, Film, Hit, LightSelection, LobeMixing, Material, MaterialId, Method, QuadSampling,
+    Ray, RenderSettings, Rgb, Scene, SceneError, Shape, SphereSampling, Technique, Unrepresentable, Vec3,
 };
 use picomis_tests::{
     DVec3, DirectStats, Stats, camera, check_unbiased, check_z, d3, direct_stats, floor_corners,
@@ -169,6 +169,7 @@ struct Case {
     /// Quad-light sampling and control variate of every method of the case.
     quads: QuadSampling,
     control_variate: ControlVariate,
+    lobe: LobeMixing,
     reference: Reference,
     /// Methods not checked with [`Check::Total`], and why.
     except: Vec<(Col, Check, &'static str)>,
@@ -190,6 +191,7 @@ impl Case {
             selection: LightSelection::Uniform,
             quads: QuadSampling::Area,
             control_variate: ControlVariate::Off,
+            lobe: LobeMixing::Off,
             reference,
             except: Vec::new(),
             anchor: None,
@@ -229,6 +231,15 @@ impl Case {
     fn control_variate(mut self) -> Self {
         self.control_variate = ControlVariate::On;
         self.label += ", control variate";
+        self.except.clear();
+        self
+    }
+
+    /// The same case with lobe mixing, labelled so (the light technique then reaches a GGX lobe
+    /// inside a light: no method fails).
+    fn lobe_mixing(mut self) -> Self {
+        self.lobe = LobeMixing::On;
+        self.label += ", lobe mixing";
         self.except.clear();
         self
     }
@@ -339,7 +350,11 @@ struct Run {
 }
 
 fn run(case: &Case, settings: &RenderSettings, stream: u32, n: u32) -> Run {
-    let settings = &settings.with_quad_sampling(case.quads).with_control_variate(case.control_variate);
+    let settings = &settings
+        .with_quad_sampling(case.quads)
+        .with_control_variate(case.control_variate)
+        .with_lobe_mixing(case.lobe)
+        .unwrap();
     let k = case.points.len() as u32;
     let mut st = DirectStats::default();
     for (j, (hit, wo)) in case.points.iter().enumerate() {
@@ -907,6 +922,65 @@ fn glossy_and_grazing_cases() -> Vec<Case> {
     ]
 }
 
+/// A GGX floor (alpha `alpha`) seen 40 degrees off the normal, with a sphere light of angular
+/// radius asin(k) at distance 3 whose edge passes `outside` radians beyond the mirror direction
+/// (negative: inside): the rim of the light's reflection, where the lobe straddles the light's
+/// edge, or its glow.
+fn rim_case(alpha: f32, k: f32, outside: f32) -> Case {
+    let mut s = Setup::floor(ggx(alpha));
+    let wo = tilt(-40.0);
+    let t = (40.0f32).to_radians() + k.asin() + outside;
+    s.sphere_light(Vec3::new(t.sin(), t.cos(), 0.0) * 3.0, 3.0 * k, 1.0);
+    let label =
+        format!("GGX alpha {alpha:.0e}, light r/d = {k:.0e}, mirror direction {outside:+.0e} rad outside");
+    Case::new(label, s.scene, origin_hit(), wo, Reference::Agreement)
+}
+
+const BSDF_MISSES_GLOW: &str = "a GGX direction reaches a light 40 alphas beyond the mirror direction with \
+probability ~(alpha / 40 alpha)^2";
+const AVERAGE_RIM: &str = "the average gives each technique half of f: here both halves are as noisy as \
+their techniques";
+
+/// The rim of a reflection in a near-mirror: light sampling spreads over the light and misses the
+/// lobe, BSDF sampling spreads over the lobe and misses the light half the time.
+fn rim() -> Case {
+    rim_case(1e-3, 0.1, 2e-3)
+}
+
+/// The glow beyond the rim: the lobe's tail reaches the light 40 alphas away.
+fn glow() -> Case {
+    rim_case(1e-3, 0.1, 4e-2).except(Col::Bsdf, Check::FiniteOnly, BSDF_MISSES_GLOW)
+}
+
+/// Group 7's cases: the rim and the glow of a light's reflection in a near-mirror, without and
+/// with lobe mixing. With it, light sampling reaches the expectation at both and the heuristics'
+/// variance falls 14- and 25-fold; BSDF sampling is unchanged.
+fn lobe_mixing_cases() -> Vec<Case> {
+    let light_fails = |c: Case| {
+        c.except(Col::LightArea, Check::FiniteOnly, LIGHT_MISSES_LOBE).except(
+            Col::LightCone,
+            Check::FiniteOnly,
+            LIGHT_MISSES_LOBE,
+        )
+    };
+    let light_half = Check::Part(Technique::Light, 0.5);
+    vec![
+        light_fails(rim()).except(Col::Average, Check::FiniteOnly, AVERAGE_RIM),
+        rim().lobe_mixing(),
+        light_fails(glow()).except(Col::Average, Check::FiniteOnly, AVERAGE_RIM),
+        glow().lobe_mixing().except(Col::Bsdf, Check::FiniteOnly, BSDF_MISSES_GLOW).except(
+            Col::Average,
+            light_half,
+            AVERAGE_LIGHT_HALF,
+        ),
+    ]
+}
+
+#[test]
+fn near_mirrors_with_lobe_mixing() {
+    run_group(7, lobe_mixing_cases());
+}
+
 #[test]
 fn glossy_and_grazing() {
     run_group(3, glossy_and_grazing_cases());
@@ -1203,7 +1277,11 @@ struct Paired {
 }
 
 fn paired(case: &Case, fixed: &S, settings: &RenderSettings, stream: u32) -> Paired {
-    let settings = &settings.with_quad_sampling(case.quads).with_control_variate(case.control_variate);
+    let settings = &settings
+        .with_quad_sampling(case.quads)
+        .with_control_variate(case.control_variate)
+        .with_lobe_mixing(case.lobe)
+        .unwrap();
     let k = case.points.len() as u32;
     let mut out = Paired { f32s: Stats::new(), fixed: Stats::new(), diff: Stats::new(), non_finite: 0 };
     for (j, (hit, wo)) in case.points.iter().enumerate() {

@@ -112,6 +112,7 @@ fn key_action(key: Keycode, keymod: Mod) -> Option<Action> {
         Keycode::A => Action::Alpha(d),
         Keycode::L => Action::LightSelection,
         Keycode::S => Action::SphereSampling,
+        Keycode::G => Action::LobeMixing,
         Keycode::P => Action::Save,
         Keycode::Q | Keycode::ESCAPE => Action::Quit,
         _ => return None,

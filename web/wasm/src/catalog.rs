@@ -1,8 +1,8 @@
 //! What the page can choose from: the built-in scenes, the methods, the light-selection and
-//! sphere-sampling strategies. Each list comes from its one definition (`picomis-builtins`, the
+//! sphere-sampling strategies, lobe mixing. Each list comes from its one definition (`picomis-builtins`, the
 //! kernel's `Method::ALL` and enums); this file only hands them to the page.
 
-use picomis::{Heuristic, LightSelection, Method, SphereSampling};
+use picomis::{Heuristic, LightSelection, LobeMixing, Method, SphereSampling};
 use picomis_format::SceneFile;
 use serde_json::{Value, json};
 
@@ -20,6 +20,9 @@ pub const METHODS: [Method; Method::ALL.len()] = Method::ALL;
 /// Sphere-light sampling strategies, by index: the kernel's list (named as `picomis-sim render
 /// --sphere-sampling`).
 pub const SPHERE_SAMPLING: [SphereSampling; SphereSampling::ALL.len()] = SphereSampling::ALL;
+
+/// Lobe mixing off and on, by index (named as `picomis-sim render --lobe-mixing`).
+pub const LOBE_MIXING: [LobeMixing; LobeMixing::ALL.len()] = LobeMixing::ALL;
 
 /// Light-selection strategies, by index: the kernel's list (named as `picomis-sim render
 /// --light-selection`).
@@ -63,6 +66,8 @@ pub fn info() -> Value {
         "methods": METHODS.map(|m| m.name()),
         "sphere_sampling": SPHERE_SAMPLING.map(SphereSampling::name),
         "default_sphere_sampling": SPHERE_SAMPLING.iter().position(|s| *s == SphereSampling::default()).unwrap_or(0),
+        "lobe_mixing": LOBE_MIXING.map(LobeMixing::name),
+        "default_lobe_mixing": LOBE_MIXING.iter().position(|l| *l == LobeMixing::default()).unwrap_or(0),
         "light_selection": LIGHT_SELECTION.map(LightSelection::name),
         "default_light_selection": LIGHT_SELECTION.iter().position(|s| *s == LightSelection::default()).unwrap_or(0),
     })

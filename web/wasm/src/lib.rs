@@ -6,7 +6,7 @@
 //! | export | what it does |
 //! |---|---|
 //! | `info_ptr()`, `info_len()` | JSON: built-in scenes (film, integrator defaults), methods, strategies |
-//! | `setup(scene, method, beta, alpha, light, bsdf, spheres, selection, seed)` | starts a render (indices into the info lists); 0 = ok, else the reason is at `message_ptr()`, `message_len()` |
+//! | `setup(scene, method, beta, alpha, light, bsdf, spheres, lobe, selection, seed)` | starts a render (indices into the info lists); 0 = ok, else the reason is at `message_ptr()`, `message_len()` |
 //! | `add_samples(k)` | adds the next `k` camera samples of every pixel; returns how many it added |
 //! | `update()` | tone-maps the current estimate into the RGBA images at `rgba_ptr()` (`rgba_len()` bytes) |
 //! | `width()`, `height()`, `spp()` | the film and the camera samples per pixel so far |
@@ -25,7 +25,7 @@ use std::cell::RefCell;
 use picomis::RenderSettings;
 use picomis_format::SceneFile;
 
-use crate::catalog::{LIGHT_SELECTION, METHODS, SCENES, SPHERE_SAMPLING};
+use crate::catalog::{LIGHT_SELECTION, LOBE_MIXING, METHODS, SCENES, SPHERE_SAMPLING};
 use crate::progressive::{Progressive, colorbar};
 
 /// What the page asks for: indices into the [`catalog`] lists and the numbers.
@@ -45,6 +45,8 @@ pub struct Request {
     pub bsdf_samples: u32,
     /// Index into [`SPHERE_SAMPLING`].
     pub spheres: u32,
+    /// Index into [`LOBE_MIXING`].
+    pub lobe: u32,
     /// Index into [`LIGHT_SELECTION`].
     pub selection: u32,
     /// Seed.
@@ -71,7 +73,9 @@ impl Request {
             )
             .with_light_selection(
                 LIGHT_SELECTION[pick(self.selection, LIGHT_SELECTION.len(), "light selection")?],
-            );
+            )
+            .with_lobe_mixing(LOBE_MIXING[pick(self.lobe, LOBE_MIXING.len(), "lobe mixing")?])
+            .map_err(|e| format!("lobe mixing: {e}"))?;
         Ok((file, settings))
     }
 }
@@ -129,11 +133,12 @@ pub extern "C" fn setup(
     light_samples: u32,
     bsdf_samples: u32,
     spheres: u32,
+    lobe: u32,
     selection: u32,
     seed: u32,
 ) -> u32 {
     let request =
-        Request { scene, method, beta, alpha, light_samples, bsdf_samples, spheres, selection, seed };
+        Request { scene, method, beta, alpha, light_samples, bsdf_samples, spheres, lobe, selection, seed };
     let result = request.resolve().and_then(|(file, settings)| Progressive::new(&file, settings));
     with(|s| match result {
         Ok(p) => {
