@@ -359,7 +359,8 @@ pub fn ggx_vndf_pdf(wo: Vec3, m: Vec3, alpha: f32) -> f32 {
 /// restricted to it: the samples follow the glossy lobe inside the box. P22 is a bivariate
 /// Student t with 2 degrees of freedom: its marginal along `g` has the closed-form tail
 /// 1 - F(t) = 1/2 - t / (2 sqrt(a^2 + t^2)), and its conditional across, of scale
-/// b = sqrt(a^2 + t^2), is (2 b^3 / pi) / (b^2 + w^2)^2 (see [`sample_ggx_slope_in`]).
+/// b = sqrt(a^2 + t^2), is (2 b^3 / pi) / (b^2 + w^2)^2, which [`sample_ggx_slope_in`] follows
+/// with an algebraic stand-in.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SlopeBox {
     /// GGX alpha.
@@ -477,61 +478,34 @@ fn half_vector_slope(v: Vec3) -> Option<Vec2> {
     (v.z > 0.0).then(|| Vec2::new(-v.x / v.z, -v.y / v.z))
 }
 
-/// The most Newton steps of [`invert_across_cdf`] (10 reach f32's precision in the unit tests).
-const ACROSS_STEPS: usize = 12;
-
-/// G(psi) = psi + sin(psi): across `g`, P22's conditional (2 b^3 / pi) / (b^2 + w^2)^2 has, in
-/// psi = 2 atan(w / b), the distribution G(psi) / (2 pi) + 1/2.
-#[inline]
-fn across_cdf(psi: f32) -> f32 {
-    psi + sin_cos_turns(psi * (0.5 * INV_PI)).0
-}
-
-/// The psi in [lo, hi] with G(psi) = c (G increasing, G(lo) <= c <= G(hi)): Newton's method from
-/// `guess`, kept inside the bracket it narrows (bisection where a step would leave it), until a
-/// step changes nothing or [`ACROSS_STEPS`] (G' = 1 + cos(psi) is flat only towards +-pi).
-#[inline]
-fn invert_across_cdf(c: f32, mut lo: f32, mut hi: f32, guess: f32) -> f32 {
-    let mut psi = guess;
-    for _ in 0..ACROSS_STEPS {
-        let (sin, cos) = sin_cos_turns(psi * (0.5 * INV_PI));
-        let g = psi + sin - c;
-        if g > 0.0 {
-            hi = psi;
-        } else {
-            lo = psi;
-        }
-        let next = psi - g / (1.0 + cos);
-        let next = if next > lo && next < hi { next } else { 0.5 * (lo + hi) };
-        if next == psi {
-            break;
-        }
-        psi = next;
-    }
-    psi
-}
-
 /// A slope from P22 in the box `h` (see [`SlopeBox`]): along `g` by inverting the marginal
 /// (t = a (1 - 2y) / (2 sqrt(y (1 - y))) for the tail y = 1 - F(t), drawn in its range), across
-/// by inverting the conditional cut to [w0, w1] ([`across_cdf`]: psi = 2 atan(w / b) with
-/// G(psi) uniform between its values at the box's sides). `None` where the slope is not finite.
+/// from the density b^2 / (b^2 + w^2)^(3/2) cut to [w0, w1]: sin(atan(w / b)) = w / sqrt(b^2 +
+/// w^2) uniform between its values at the box's sides, so w = b s / sqrt(1 - s^2), algebraic
+/// (P22's own conditional, proportional to (b^2 + w^2)^-2, has no closed-form inverse; this
+/// stand-in has its peak and width, and a tail heavier by sqrt(b^2 + w^2) / b). `None` where the
+/// slope is not finite.
 #[inline]
 pub fn sample_ggx_slope_in(h: &SlopeBox, u: Vec2) -> Option<Vec2> {
     let y = h.tail + h.mass * (1.0 - u.x);
     let t = h.alpha * (1.0 - 2.0 * y) / (2.0 * sqrt(y * (1.0 - y)));
-    let b = sqrt(h.alpha * h.alpha + t * t);
-    let (psi0, psi1) = (2.0 * atan2(h.w.x, b), 2.0 * atan2(h.w.y, b));
-    let (g0, g1) = (across_cdf(psi0), across_cdf(psi1));
-    let psi = invert_across_cdf(g0 + u.y * (g1 - g0), psi0, psi1, psi0 + u.y * (psi1 - psi0));
-    let (sin, cos) = sin_cos_turns(psi * (0.25 * INV_PI));
-    let w = b * sin / cos;
-    let s = h.g * t + Vec2::new(-h.g.y, h.g.x) * w;
-    (s.x.is_finite() && s.y.is_finite()).then_some(s)
+    let b2 = h.alpha * h.alpha + t * t;
+    let (s0, s1) = (sine_across(h.w.x, b2), sine_across(h.w.y, b2));
+    let s = s0 + u.y * (s1 - s0);
+    let w = sqrt(b2) * s / sqrt((1.0 - s) * (1.0 + s));
+    let slope = h.g * t + Vec2::new(-h.g.y, h.g.x) * w;
+    (slope.x.is_finite() && slope.y.is_finite()).then_some(slope)
 }
 
-/// Pdf of [`sample_ggx_slope_in`] per unit area of slopes: P22 over its mass in the box, as the
-/// marginal a^2 / (2 b^3) over its mass along `g` times the conditional cut to the box,
-/// 4 b^3 / ((b^2 + w^2)^2 (G(psi1) - G(psi0))); 0 outside the box.
+/// sin(atan(w / b)) = w / sqrt(b^2 + w^2), given b^2.
+#[inline]
+fn sine_across(w: f32, b2: f32) -> f32 {
+    w / sqrt(b2 + w * w)
+}
+
+/// Pdf of [`sample_ggx_slope_in`] per unit area of slopes: the marginal a^2 / (2 b^3) over its
+/// mass along `g` times the density across, b^2 / ((b^2 + w^2)^(3/2) (s1 - s0)); 0 outside the
+/// box.
 #[inline]
 pub fn ggx_slope_in_pdf(h: &SlopeBox, s: Vec2) -> f32 {
     let t = s.dot(h.g);
@@ -540,10 +514,9 @@ pub fn ggx_slope_in_pdf(h: &SlopeBox, s: Vec2) -> f32 {
         return 0.0;
     }
     let b2 = h.alpha * h.alpha + t * t;
-    let b = sqrt(b2);
-    let spread = across_cdf(2.0 * atan2(h.w.y, b)) - across_cdf(2.0 * atan2(h.w.x, b));
+    let spread = sine_across(h.w.y, b2) - sine_across(h.w.x, b2);
     let q = b2 + w * w;
-    let pdf = 2.0 * h.alpha * h.alpha / (h.mass * q * q * spread);
+    let pdf = h.alpha * h.alpha / (2.0 * sqrt(b2) * h.mass * q * sqrt(q) * spread);
     if pdf.is_finite() { pdf } else { 0.0 }
 }
 
