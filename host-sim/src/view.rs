@@ -400,7 +400,7 @@ mod tests {
         assert_eq!(views.len(), View::ALL.len());
         assert!(s.apply(Action::LightSelection) && s.apply(Action::SphereSampling));
         assert!(s.apply(Action::LobeMixing) && s.lobe == LobeMixing::On && s.settings(1).is_ok());
-        assert_eq!(s.sampling_label(), "power, area");
+        assert_eq!(s.sampling_label(), "power, area, lobe");
         assert!(!s.apply(Action::Save));
     }
 
