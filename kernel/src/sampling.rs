@@ -425,22 +425,15 @@ impl SlopeBox {
             return None;
         }
         let g = g / len;
-        let across = Vec2::new(-g.y, g.x);
         const H: f32 = core::f32::consts::FRAC_1_SQRT_2;
         const RING: [(f32, f32); 7] =
             [(H, H), (0.0, 1.0), (-H, H), (-1.0, 0.0), (-H, -H), (0.0, -1.0), (H, -H)];
-        let (mut far, mut w) = (near.dot(g), Vec2::splat(near.dot(across)));
-        for (c, s) in RING {
-            let p = half_vector_slope(wo + axis * cos_max + (toward * c + side * s) * sin_max)?;
-            far = far.max(p.dot(g));
-            let q = p.dot(across);
-            w = Vec2::new(w.x.min(q), w.y.max(q));
-        }
-        Self::new(alpha, g, Vec2::new(near.dot(g), far), w)
+        let ring =
+            RING.map(|(c, s)| half_vector_slope(wo + axis * cos_max + (toward * c + side * s) * sin_max));
+        let (lo, hi) = slope_bounds(g, core::iter::once(Some(near)).chain(ring))?;
+        Self::new(alpha, g, Vec2::new(near.dot(g), hi.x), Vec2::new(lo.y, hi.y))
     }
-}
 
-impl SlopeBox {
     /// The box of a GGX receiver's slopes (seen from local `wo`) that reflect towards the unit
     /// local directions `outline` (points of a light's outline): `g` from the mirror
     /// direction's slope (0) towards the slope of the unit direction `center`, the box the bounds
@@ -451,24 +444,29 @@ impl SlopeBox {
         let c = half_vector_slope(wo + center)?;
         let len = sqrt(c.dot(c));
         let g = if len > 0.0 && len.is_finite() { c / len } else { Vec2::X };
-        let across = Vec2::new(-g.y, g.x);
-        let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
-        for d in outline {
-            let p = half_vector_slope(wo + *d)?;
-            let q = Vec2::new(p.dot(g), p.dot(across));
-            lo = lo.min(q);
-            hi = hi.max(q);
-        }
+        let (lo, hi) = slope_bounds(g, outline.iter().map(|d| half_vector_slope(wo + *d)))?;
         Self::new(alpha, g, Vec2::new(lo.x, hi.x), Vec2::new(lo.y, hi.y))
     }
-}
 
-impl SlopeBox {
     /// Whether the box holds every slope within `radius` of the mirror direction's (0).
     #[inline]
     pub fn holds_disc(&self, radius: f32) -> bool {
         self.t.x < -radius && self.t.y > radius && self.w.x < -radius && self.w.y > radius
     }
+}
+
+/// The bounds of `slopes` along the unit `g` (x) and across it (y); `None` if one is `None`.
+#[inline]
+fn slope_bounds(g: Vec2, slopes: impl Iterator<Item = Option<Vec2>>) -> Option<(Vec2, Vec2)> {
+    let across = Vec2::new(-g.y, g.x);
+    let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+    for p in slopes {
+        let p = p?;
+        let q = Vec2::new(p.dot(g), p.dot(across));
+        lo = lo.min(q);
+        hi = hi.max(q);
+    }
+    Some((lo, hi))
 }
 
 /// The microfacet slope -(v_x, v_y) / v_z of the half vector along `v` (unnormalized), if `v`
