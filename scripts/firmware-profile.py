@@ -12,7 +12,8 @@ Prints executed instructions per innermost (inlined) function, per outermost fun
 source line (addr2line -i), per symbol with its calls and instructions per call (from the symbol
 table: right for assembly routines too, which have no line information), then the call sites of
 out-of-line functions, then each innermost function and source file with the library routines it
-calls charged to it (what a kernel function costs on a core without an FPU). With `--charge
+calls charged to it (what a kernel function costs on a core without an FPU), then each function
+inclusive of what is inlined into it. With `--charge
 shape.rs,accel.rs,scene.rs`, also the instructions spent in those source files anywhere on the
 inline chain, with the library routines they call (soft float, libm, memcpy) charged to them:
 e.g. the ray queries' share (the firmware renders the film twice, once for the framebuffer and
@@ -154,6 +155,12 @@ def main():
         by_file[loc.split(':')[0]] += n
     show('innermost function, with the library routines it calls charged to it', by_fn)
     show('source file, with the library routines it calls charged to it', by_file)
+    inclusive = collections.Counter()
+    for a, n in own + [(a, n) for a, n in charged.items() if a is not None]:
+        for f in {f for f, _ in chains.get(a, [('?', '?')])}:
+            inclusive[f] += n
+    show('function anywhere on the inline chain (inclusive: the code inlined into it and the library '
+         'routines it calls)', inclusive)
     if charge:
         def through(a):
             return any(loc.split(':')[0] in charge for _, loc in chains.get(a, []))

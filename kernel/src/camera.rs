@@ -2,7 +2,7 @@
 //! a vertical or horizontal field of view, and a near clip plane.
 
 use crate::error::{Field, SceneError};
-use crate::math::{Vec2, Vec3, dot, finite3, normalize_or, sin_cos_turns, try_normalize};
+use crate::math::{Vec2, Vec3, dot, finite3, positive_finite, sin_cos_turns, sqrt, try_normalize};
 use crate::shape::Ray;
 
 /// Which film axis the field of view spans.
@@ -84,6 +84,14 @@ pub struct Camera {
     tan_x: f32,
     tan_y: f32,
     near_clip: f32,
+    /// The film's size in pixels.
+    size: Vec2,
+    /// The unnormalised direction through the film's top-left corner, forward - right tan_x +
+    /// up tan_y, and its steps per pixel to the right and down: the primary ray through pixel
+    /// position (x, y) points along `corner + x step_x + y step_y`.
+    corner: Vec3,
+    step_x: Vec3,
+    step_y: Vec3,
 }
 
 impl Camera {
@@ -125,7 +133,21 @@ impl Camera {
             FovAxis::Y => (t * aspect, t),
             FovAxis::X => (t, t / aspect),
         };
-        Ok(Self { desc, origin: desc.origin, forward, right, up, tan_x, tan_y, near_clip: desc.near_clip })
+        let size = Vec2::new(film.width() as f32, film.height() as f32);
+        Ok(Self {
+            desc,
+            origin: desc.origin,
+            forward,
+            right,
+            up,
+            tan_x,
+            tan_y,
+            near_clip: desc.near_clip,
+            size,
+            corner: forward - right * tan_x + up * tan_y,
+            step_x: right * (2.0 * tan_x / size.x),
+            step_y: up * (-2.0 * tan_y / size.y),
+        })
     }
 
     /// The description this camera was built from.
@@ -151,15 +173,28 @@ impl Camera {
     }
 
     /// The primary ray through film point `film` (u right, v down, both in [0, 1]) and the
-    /// distance along it of the near clip plane.
+    /// distance along it of the near clip plane: [`Camera::ray_at_pixel`] of `film` times the
+    /// film's size.
     #[inline]
     pub fn ray(&self, film: Vec2) -> (Ray, f32) {
-        let d = self.forward
-            + self.right * ((2.0 * film.x - 1.0) * self.tan_x)
-            + self.up * ((1.0 - 2.0 * film.y) * self.tan_y);
-        let dir = normalize_or(d, self.forward);
-        // The clip plane is perpendicular to `forward`.
-        let t_near = self.near_clip / dot(dir, self.forward);
+        self.ray_at_pixel(film * self.size)
+    }
+
+    /// The primary ray through pixel position `p` (x right, y down, in pixels from the film's
+    /// top-left corner: pixel (i, j) covers [i, i + 1] x [j, j + 1]) and the distance along it of
+    /// the near clip plane.
+    #[inline]
+    pub fn ray_at_pixel(&self, p: Vec2) -> (Ray, f32) {
+        let d = self.corner + self.step_x * p.x + self.step_y * p.y;
+        // d's component along `forward` is one (the steps are across it), so the clip plane,
+        // perpendicular to `forward` at `near_clip`, lies at near_clip |d| along the unit ray.
+        let len2 = dot(d, d);
+        let (dir, t_near) = if positive_finite(len2) {
+            let len = sqrt(len2);
+            (d * (1.0 / len), self.near_clip * len)
+        } else {
+            (self.forward, self.near_clip)
+        };
         (Ray { origin: self.origin, dir }, t_near)
     }
 }

@@ -14,7 +14,7 @@ use crate::analytic;
 use crate::ids::LightId;
 use crate::light::Light;
 use crate::light_sampler::{LightSampler, SelectionAt, ShadingPoint};
-use crate::material::Material;
+use crate::material::{Material, Outgoing};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::mis::{Method, Technique};
 use crate::model::MisModel;
@@ -257,7 +257,7 @@ macro_rules! shading {
             ($scene, $settings, $x, $bsdf, $wo);
         let frame = Frame::from_normal(x.point.n);
         let point = ShadingPoint { p: x.point.p, n: x.point.n, wo, bsdf: *bsdf };
-        let wo = frame.to_local(wo);
+        let wo = bsdf.to_local(&frame, wo);
         // On the microcontrollers the selection by contribution reads a copy of the point: lent
         // to the out-of-line selection, `point` itself would be built apart and copied into the
         // struct after (some 100 instructions per shading point on the M4F). The other
@@ -273,19 +273,21 @@ macro_rules! shading {
             settings.control_variate() == ControlVariate::On && matches!(bsdf, Material::Lambertian { .. });
         let (covered, unoccluded) =
             if control_variate { analytic::unoccluded_light(scene, bsdf, x, wo.z) } else { (0, Rgb::ZERO) };
-        Shading { x, bsdf, frame, wo, point, selection, control_variate, covered, unoccluded }
+        let seen = bsdf.seen_from(wo);
+        Shading { x, bsdf, frame, seen, point, selection, control_variate, covered, unoccluded }
     }};
 }
 
-/// A shading point as the techniques see it: the BSDF, the local frame and `wo` in it, and the
-/// light selection there (`L`: the scene's light capacity).
+/// A shading point as the techniques see it: the BSDF seen from `wo` in the local frame, and
+/// the light selection there (`L`: the scene's light capacity).
 #[derive(Clone, Debug)]
 pub struct Shading<'a, const L: usize> {
     x: &'a Hit,
     bsdf: &'a Material,
     frame: Frame,
-    /// `wo` in the local frame.
-    wo: Vec3,
+    /// The BSDF seen from `wo` in the local frame: what f cos and the pdf need of `wo` alone,
+    /// computed once for the light and BSDF samples.
+    seen: Outgoing,
     /// The shading point as the light sampler sees it (world `wo`).
     point: ShadingPoint,
     /// Light selection here, shared by light samples and the BSDF samples' weights.
@@ -395,8 +397,8 @@ fn light_sample<const S: usize, const L: usize, const M: usize>(
     let ls = lights.sample(chosen.light, &at.point, Vec2::new(u, v))?;
     // The light technique's pdf of this direction: p_l = P(light) p_w(wi | light).
     let p_light = chosen.probability * ls.pdf;
-    let wi = at.frame.to_local(ls.wi);
-    let (f, p_bsdf) = at.bsdf.eval_pdf(at.wo, wi);
+    let wi = at.bsdf.to_local(&at.frame, ls.wi);
+    let (f, p_bsdf) = at.seen.eval_pdf(wi);
     if f == Rgb::ZERO || ls.radiance == Rgb::ZERO {
         return None;
     }
@@ -428,13 +430,13 @@ fn bsdf_sample<const S: usize, const L: usize, const M: usize>(
     sampler: &mut Sampler,
     mut found: impl FnMut(Found),
 ) {
-    let Some(bs) = at.bsdf.sample(at.wo, sampler.next_2d()) else { return };
+    let Some(bs) = at.seen.sample(sampler.next_2d()) else { return };
     let wi = at.frame.to_world(bs.wi);
     // The weight needs p_b as a function of the direction, the same function the light
     // technique's weight used (`eval_pdf`), so the two weights of a direction sum to one
     // exactly. (`bs.pdf`, from the sampled half vector, can differ from it by rounding at
     // grazing near-mirror angles; the sample's f / p_b, `bs.weight`, uses the exact one.)
-    let pdf = || at.bsdf.pdf(at.wo, bs.wi);
+    let pdf = || at.seen.pdf(bs.wi);
     // The light technique's pdf of the direction to y on `light`: p_l = P(light) p_w(wi | light).
     let light_pdf = |light, y: &Hit| {
         let lights = light_sampler(scene, settings);

@@ -23,9 +23,10 @@ use heapless::Vec;
 use crate::accel::Target;
 use crate::error::{Collection, SceneError, Unrepresentable};
 #[cfg(all(target_arch = "arm", target_os = "none", target_abi = "eabi"))]
-use crate::int_m0::{div_steps, dot32, mul_wide};
+use crate::int_m0::{div_steps, dot32};
 use crate::math::Vec3;
 use crate::shape::{Ray, Shape};
+use crate::wide::mul_wide;
 
 /// Fraction bits of directions and normals.
 const Q: u32 = 30;
@@ -91,13 +92,6 @@ fn wide(v: &[i32; 3]) -> [i64; 3] {
 
 fn dot(a: &[i64; 3], b: &[i64; 3]) -> i64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// `a b` in 64 bits, exact (on the M0: `int_m0.rs`'s routine).
-#[cfg(not(all(target_arch = "arm", target_os = "none", target_abi = "eabi")))]
-#[inline(always)]
-fn mul_wide(a: i32, b: i32) -> i64 {
-    i64::from(a) * i64::from(b)
 }
 
 /// `a . b` of 32-bit vectors in 64 bits (each product exact; on the M0: `int_m0.rs`'s routine).

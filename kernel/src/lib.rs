@@ -75,6 +75,8 @@ pub mod shape;
 pub mod sqrt;
 pub mod study;
 pub mod tonemap;
+mod trig;
+mod wide;
 
 pub use arith::Arith;
 pub use camera::{Camera, CameraDesc, Film, FovAxis};

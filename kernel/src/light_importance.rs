@@ -479,9 +479,8 @@ mod packed {
         let tm = (mx * mx + my * my) / s(a2) + mz * mz;
         let d = mz.cmp_le(zero).blend(zero, one / (s(PI * a2) * tm * tm));
         // ggx_g1(w, alpha) (w.z > 0 where it is used).
-        let tan2 = (wx * wx + wy * wy) / (wz * wz);
-        let g1 = s(2.0) / (one + max0(one + s(alpha * alpha) * tan2).sqrt());
-        let q = d * s(r.bsdf.g1_wo()) * g1 / s(4.0 * wo.z);
+        let g1 = (wz + wz) / (wz + (s(a2) + s(1.0 - a2) * (wz * wz)).sqrt());
+        let q = (d * s(r.bsdf.pdf_scale())) * g1;
         let lum = s(0.2126) * (s(reflectance.x) * q)
             + s(0.7152) * (s(reflectance.y) * q)
             + s(0.0722) * (s(reflectance.z) * q);

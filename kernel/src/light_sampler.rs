@@ -16,12 +16,11 @@ use crate::light::Light;
 use crate::light_importance::{Receiver, weighs_bsdf};
 use crate::light_lobe::{LOBE_SHARE, Lobe, LobeMixing};
 use crate::material::Material;
-use crate::math::{Frame, Rgb, Vec2, Vec3, dot, max0, positive_finite, safe_sqrt, sqrt};
+use crate::math::{Frame, Rgb, Vec2, Vec3, dot, from_local_around, max0, positive_finite, safe_sqrt, sqrt};
 use crate::sampling::{
     GRID, GridDistribution, SphericalRectangle, bilinear_pdf, cone_one_minus_cos,
     invert_spherical_rectangle_sample, sample_bilinear, sample_spherical_rectangle, sample_uniform_cone,
-    sample_uniform_index, spherical_rectangle, spherical_rectangle_cosines, spherical_rectangle_pdf,
-    uniform_cone_pdf, uniform_index_pmf,
+    spherical_rectangle, spherical_rectangle_cosines, spherical_rectangle_pdf, uniform_cone_pdf,
 };
 use crate::scene::Scene;
 use crate::shape::Rectangle;
@@ -386,7 +385,7 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
             powers.sample_reusing(bits)
         } else {
             // Uniform (also when no light has power).
-            sample_uniform_index(bits, self.scene.lights().len())
+            self.scene.light_uniform().sample_reusing(bits)
         }?;
         let chosen = LightChoice { light: LightId::new(drawn.index as u16), probability: drawn.probability };
         Some((chosen, drawn.reused))
@@ -406,7 +405,7 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
         let powers = self.scene.light_powers();
         match self.selection {
             LightSelection::Power if !powers.is_empty() => powers.pmf(light.index()),
-            _ => uniform_index_pmf(n),
+            _ => self.scene.light_uniform().pmf(light.index()),
         }
     }
 
@@ -676,9 +675,8 @@ fn sample_sphere_cone(center: Vec3, radius: f32, x: Vec3, u: Vec2) -> Option<Lig
     let to_c = center - x;
     let d2 = dot(to_c, to_c);
     let d = sqrt(d2);
-    let frame = Frame::from_normal(to_c / d);
     let local = sample_uniform_cone(u, omc);
-    let wi = frame.to_world(local);
+    let wi = from_local_around(to_c * (1.0 / d), local);
     // Distance to the near intersection: d cos(theta) - sqrt(r^2 - d^2 sin^2(theta)).
     let sin2 = local.x * local.x + local.y * local.y;
     let distance = max0(d * local.z - safe_sqrt(radius * radius - d2 * sin2));

@@ -3,8 +3,8 @@
 //! (`z` = normal), `wo` towards the viewer, `wi` towards the light.
 
 use crate::error::{Field, SceneError};
-use crate::math::{INV_PI, Rgb, Vec2, Vec3, dot, finite3, positive_finite, try_normalize};
-use crate::sampling::{cosine_hemisphere_pdf, ggx_d, ggx_g1, sample_cosine_hemisphere, sample_ggx_vndf};
+use crate::math::{Frame, INV_PI, Rgb, Vec2, Vec3, dot, finite3, positive_finite, try_normalize};
+use crate::sampling::{GgxAlpha, cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_ggx_vndf};
 
 /// The closed set of materials.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,6 +91,17 @@ impl Material {
         }
     }
 
+    /// The world direction `v` in `frame`'s local coordinates as far as this material reads
+    /// them: a Lambertian surface reads only cos(theta), so its `x` and `y` are left zero and
+    /// two of the frame's three dot products are skipped (the same `z`, bit for bit).
+    #[inline]
+    pub fn to_local(&self, frame: &Frame, v: Vec3) -> Vec3 {
+        match self {
+            Material::Lambertian { .. } => Vec3::new(0.0, 0.0, dot(v, frame.n)),
+            Material::GgxConductor { .. } => frame.to_local(v),
+        }
+    }
+
     /// f(wo, wi) cos(theta_i).
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
@@ -113,11 +124,15 @@ impl Material {
     /// for many `wi`.
     #[inline]
     pub fn seen_from(&self, wo: Vec3) -> Outgoing {
-        let g1_wo = match *self {
-            Material::Lambertian { .. } => 0.0,
-            Material::GgxConductor { alpha, .. } => ggx_g1(wo, alpha),
+        let (ggx, g1_wo, pdf_scale) = match *self {
+            Material::Lambertian { .. } => (GgxAlpha::new(1.0), 0.0, 0.0),
+            Material::GgxConductor { alpha, .. } => {
+                let ggx = GgxAlpha::new(alpha);
+                let g1_wo = ggx.g1(wo);
+                (ggx, g1_wo, if wo.z > 0.0 { g1_wo / (4.0 * wo.z) } else { 0.0 })
+            }
         };
-        Outgoing { material: *self, wo, g1_wo }
+        Outgoing { material: *self, wo, ggx, g1_wo, pdf_scale }
     }
 
     /// Draws `wi` for the given `wo`: cosine-weighted (Lambertian) or visible normals (GGX).
@@ -135,8 +150,13 @@ pub struct Outgoing {
     material: Material,
     /// Local direction towards the viewer.
     wo: Vec3,
+    /// The GGX roughness (alpha one for Lambertian, unused).
+    ggx: GgxAlpha,
     /// G1(wo) (GGX; 0 for Lambertian, which has none).
     g1_wo: f32,
+    /// G1(wo) / (4 cos_o), the visible-normal pdf of a reflected direction per unit D (GGX
+    /// with cos_o > 0; else 0).
+    pdf_scale: f32,
 }
 
 impl Outgoing {
@@ -158,6 +178,13 @@ impl Outgoing {
         self.g1_wo
     }
 
+    /// G1(wo) / (4 cos_o) (GGX; 0 for Lambertian): a reflected direction's pdf is D(m) times
+    /// it, and f cos_i is that pdf times R G1(wi).
+    #[inline]
+    pub fn pdf_scale(&self) -> f32 {
+        self.pdf_scale
+    }
+
     /// f(wo, wi) cos(theta_i) and the pdf of `wi`, sharing the half vector, D and G1(wo).
     #[inline]
     pub fn eval_pdf(&self, wi: Vec3) -> (Rgb, f32) {
@@ -167,18 +194,16 @@ impl Outgoing {
         }
         match self.material {
             Material::Lambertian { albedo } => (albedo * (INV_PI * wi.z), cosine_hemisphere_pdf(wi.z)),
-            Material::GgxConductor { alpha, reflectance } => {
+            Material::GgxConductor { reflectance, .. } => {
                 let Some(m) = try_normalize(wo + wi) else {
                     return (Rgb::ZERO, 0.0);
                 };
                 // Both directions are above the horizon, so wo.m = wi.m > 0 and m.z > 0.
-                let d = ggx_d(m, alpha);
-                let g1_wo = self.g1_wo;
-                // f cos_i = R D G1(wi) G1(wo) / (4 cos_o).
-                let f = reflectance * (d * g1_wo * ggx_g1(wi, alpha) / (4.0 * wo.z));
                 // Visible normals, times the reflection Jacobian 1 / (4 wo.m):
-                // G1(wo) (wo.m) D / cos_o / (4 wo.m) = G1(wo) D / (4 cos_o).
-                let pdf = g1_wo * d / (4.0 * wo.z);
+                // G1(wo) (wo.m) D / cos_o / (4 wo.m) = D G1(wo) / (4 cos_o).
+                let pdf = self.ggx.d(m) * self.pdf_scale;
+                // f cos_i = R D G1(wi) G1(wo) / (4 cos_o) = R G1(wi) pdf.
+                let f = reflectance * (pdf * self.ggx.g1(wi));
                 (f, pdf)
             }
         }
@@ -222,12 +247,12 @@ impl Outgoing {
                     return None;
                 }
                 // The same expression as `eval_pdf`, so both techniques' weights see equal pdfs.
-                let pdf = self.g1_wo * ggx_d(m, alpha) / (4.0 * wo.z);
+                let pdf = self.ggx.d(m) * self.pdf_scale;
                 if !positive_finite(pdf) {
                     return None;
                 }
                 // f cos / pdf = R G1(wi) for visible-normal sampling.
-                Some(BsdfSample { wi, weight: reflectance * ggx_g1(wi, alpha), pdf })
+                Some(BsdfSample { wi, weight: reflectance * self.ggx.g1(wi), pdf })
             }
         }
     }

@@ -73,7 +73,8 @@ impl Heuristic {
             return [0.0; N];
         }
         let r = if q_max.is_finite() {
-            q.map(|v| v / q_max)
+            // (The largest entry's ratio is one: no division for it, the same bits.)
+            q.map(|v| if v.to_bits() == q_max.to_bits() { 1.0 } else { v / q_max })
         } else {
             q.map(|v| if v.is_infinite() { 1.0 } else { 0.0 })
         };
@@ -104,6 +105,8 @@ impl Heuristic {
 fn power(v: f32, beta: f32) -> f32 {
     if !(v > 0.0) {
         0.0
+    } else if v.to_bits() == 1.0f32.to_bits() {
+        1.0 // the largest entry: 1^beta, no multiply
     } else if beta == 2.0 {
         v * v
     } else if beta == 1.0 {

@@ -51,9 +51,7 @@ pub fn camera_sample<const S: usize, const L: usize, const M: usize>(
     let pixel = y.wrapping_mul(film.width()).wrapping_add(x);
     let mut sampler = Sampler::with_kind(settings.sampler(), settings.seed(), pixel, index);
     let jitter = sampler.next_2d();
-    let uv =
-        Vec2::new((x as f32 + jitter.x) / film.width() as f32, (y as f32 + jitter.y) / film.height() as f32);
-    let (ray, hit) = scene.camera_hit(uv, x, y);
+    let (ray, hit) = scene.camera_hit(Vec2::new(x as f32 + jitter.x, y as f32 + jitter.y), x, y);
     shade(scene, settings, hit, ray.dir, &mut sampler)
 }
 

@@ -19,7 +19,7 @@ use crate::light::Light;
 use crate::light_importance::{LightGeometry, LightTable};
 use crate::material::Material;
 use crate::math::{Rgb, Vec2, Vec3, dot};
-use crate::sampling::GridDistribution;
+use crate::sampling::{GridDistribution, UniformIndex};
 use crate::shadow_cull::{Convex, Sets, ShadowCull};
 use crate::shape::{Ray, Shape, SurfacePoint};
 
@@ -77,6 +77,8 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     light_geometry: LightTable<L>,
     light_power: Vec<f32, L>,
     power_selection: GridDistribution<L>,
+    /// Every light equally likely.
+    uniform_selection: UniformIndex,
     /// The fixed-point copies of the shapes while the ray queries run in fixed point
     /// ([`Scene::enable_arith`]; empty otherwise), filled in place.
     #[cfg(feature = "fixed")]
@@ -130,6 +132,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             light_geometry: LightTable::default(),
             light_power: Vec::new(),
             power_selection: GridDistribution::default(),
+            uniform_selection: UniformIndex::new(0),
             #[cfg(feature = "fixed")]
             fixed: FixedScene::off(),
         })
@@ -215,6 +218,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         self.light_geometry.push(geometry).map_err(|_| full)?;
         self.light_power.push(power).map_err(|_| full)?;
         self.power_selection = GridDistribution::new(&self.light_power);
+        self.uniform_selection = UniformIndex::new(self.lights.len());
         self.shadow_cull
             .add_light(usize::from(id), &SceneSets { objects: &self.objects, lights: &self.lights });
         Ok(LightId::new(id))
@@ -294,6 +298,12 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         &self.power_selection
     }
 
+    /// Every light equally likely, as uniform light selection draws them.
+    #[inline]
+    pub fn light_uniform(&self) -> &UniformIndex {
+        &self.uniform_selection
+    }
+
     /// The material of object `object`.
     #[inline]
     pub fn material(&self, object: ShapeId) -> Option<&Material> {
@@ -332,12 +342,12 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         self.query(ray, t_near, f32::INFINITY, Filter::Among(self.camera_candidates(x, y)))
     }
 
-    /// The camera ray through film point `uv` of pixel `(x, y)` and its nearest hit beyond the
-    /// clip plane: [`Scene::intersect_camera`] of [`Camera::ray`]'s ray, without checking that
-    /// the ray starts at the camera (it does).
+    /// The camera ray through pixel position `p` in pixel `(x, y)` and its nearest hit beyond the
+    /// clip plane: [`Scene::intersect_camera`] of [`Camera::ray_at_pixel`]'s ray, without checking
+    /// that the ray starts at the camera (it does).
     #[inline]
-    pub(crate) fn camera_hit(&self, uv: Vec2, x: u32, y: u32) -> (Ray, Option<Hit>) {
-        let (ray, t_near) = self.camera.ray(uv);
+    pub(crate) fn camera_hit(&self, p: Vec2, x: u32, y: u32) -> (Ray, Option<Hit>) {
+        let (ray, t_near) = self.camera.ray_at_pixel(p);
         let filter = Filter::Among(self.camera_candidates(x, y));
         let hit = if accel::ENABLED {
             self.query(&ray, t_near, f32::INFINITY, filter)
