@@ -216,7 +216,7 @@ pub fn from_local_around(n: Vec3, v: Vec3) -> Vec3 {
 
 impl Frame {
     /// Builds a frame around the unit vector `n` (Duff et al. 2017, branchless, no singularity).
-    /// The products with sign(n.z) are exact ([`signed_by`]).
+    /// The products with sign(n.z) are exact (`signed_by`: sign flips on the soft-float cores).
     #[inline]
     pub fn from_normal(n: Vec3) -> Self {
         let sign = 1.0f32.copysign(n.z);
