@@ -124,15 +124,14 @@ impl Material {
     /// for many `wi`.
     #[inline]
     pub fn seen_from(&self, wo: Vec3) -> Outgoing {
-        let (ggx, g1_wo, pdf_scale) = match *self {
-            Material::Lambertian { .. } => (GgxAlpha::new(1.0), 0.0, 0.0),
+        let (ggx, pdf_scale) = match *self {
+            Material::Lambertian { .. } => (GgxAlpha::new(1.0), 0.0),
             Material::GgxConductor { alpha, .. } => {
                 let ggx = GgxAlpha::new(alpha);
-                let g1_wo = ggx.g1(wo);
-                (ggx, g1_wo, if wo.z > 0.0 { g1_wo / (4.0 * wo.z) } else { 0.0 })
+                (ggx, if wo.z > 0.0 { ggx.g1(wo) / (4.0 * wo.z) } else { 0.0 })
             }
         };
-        Outgoing { material: *self, wo, ggx, g1_wo, pdf_scale }
+        Outgoing { material: *self, wo, ggx, pdf_scale }
     }
 
     /// Draws `wi` for the given `wo`: cosine-weighted (Lambertian) or visible normals (GGX).
@@ -152,8 +151,6 @@ pub struct Outgoing {
     wo: Vec3,
     /// The GGX roughness (alpha one for Lambertian, unused).
     ggx: GgxAlpha,
-    /// G1(wo) (GGX; 0 for Lambertian, which has none).
-    g1_wo: f32,
     /// G1(wo) / (4 cos_o), the visible-normal pdf of a reflected direction per unit D (GGX
     /// with cos_o > 0; else 0).
     pdf_scale: f32,
@@ -170,12 +167,6 @@ impl Outgoing {
     #[inline]
     pub fn wo(&self) -> Vec3 {
         self.wo
-    }
-
-    /// G1(wo) (GGX; 0 for Lambertian).
-    #[inline]
-    pub fn g1_wo(&self) -> f32 {
-        self.g1_wo
     }
 
     /// G1(wo) / (4 cos_o) (GGX; 0 for Lambertian): a reflected direction's pdf is D(m) times
