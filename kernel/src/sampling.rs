@@ -616,7 +616,7 @@ impl UniformIndex {
     /// `n` entries (none: nothing is drawn).
     #[inline]
     pub fn new(n: usize) -> Self {
-        Self { n, pmf: uniform_index_pmf(n) }
+        Self { n, pmf: if n == 0 { 0.0 } else { 1.0 / n as f32 } }
     }
 
     /// One entry from 32 random bits: the integer part of `bits x n / 2^32`, and its fractional
@@ -640,18 +640,6 @@ impl UniformIndex {
     pub fn pmf(&self, i: usize) -> f32 {
         if i < self.n { self.pmf } else { 0.0 }
     }
-}
-
-/// One of `n` entries, each equally likely, from 32 random bits ([`UniformIndex::sample_reusing`]).
-#[inline]
-pub fn sample_uniform_index(bits: u32, n: usize) -> Option<DiscreteSample> {
-    UniformIndex::new(n).sample_reusing(bits)
-}
-
-/// Pmf of [`sample_uniform_index`]: 1 / n (to within 2^-32 of what it realises).
-#[inline]
-pub fn uniform_index_pmf(n: usize) -> f32 {
-    if n == 0 { 0.0 } else { 1.0 / n as f32 }
 }
 
 /// How many equally likely values a random number from
@@ -934,8 +922,10 @@ mod tests {
             // Sums of the reused numbers in units of 2^-24 (exact: they lie on that grid).
             let mut sum = [0u64; 32];
             for j in 0..(1u32 << 16) {
-                let s = sample_uniform_index(j << 16 | 0x8000, n).unwrap();
+                let uniform = UniformIndex::new(n);
+                let s = uniform.sample_reusing(j << 16 | 0x8000).unwrap();
                 assert!(s.index < n && (0.0..1.0).contains(&s.reused) && s.probability == 1.0 / n as f32);
+                assert!(uniform.pmf(s.index) == s.probability && uniform.pmf(n) == 0.0);
                 count[s.index] += 1;
                 sum[s.index] += (s.reused * 16_777_216.0) as u64;
             }
@@ -946,7 +936,7 @@ mod tests {
                 assert!((2 * sum[i]).abs_diff(c << 24) * 500 < c << 24, "n {n}, entry {i}");
             }
         }
-        assert_eq!(sample_uniform_index(7, 0), None);
+        assert_eq!(UniformIndex::new(0).sample_reusing(7), None);
     }
 
     #[test]
