@@ -115,8 +115,8 @@ impl Lobe {
     /// area light of shape `shape`, where the mixture applies: a GGX receiver whose lobe is
     /// narrower than the light ([`LOBE_NARROWER`]), outside the light's bounding sphere, and a
     /// box of slopes that faces it. The box is exact to first order at a sphere's rim
-    /// ([`SlopeBox::facing_cone`]) and bounds a quad's corners and edge midpoints
-    /// ([`SlopeBox::around`]).
+    /// ([`SlopeBox::facing_cone`]) and faces a quad's edge nearest the mirror direction in the
+    /// image of its corners and edge midpoints ([`SlopeBox::facing_polygon`]).
     #[inline]
     pub fn towards(shape: &Shape, x: Vec3, n: Vec3, wo: Vec3, bsdf: &Material) -> Option<Self> {
         let Material::GgxConductor { alpha, .. } = *bsdf else { return None };
@@ -152,7 +152,8 @@ impl Lobe {
                     mid(c[3], c[0]),
                 ];
                 let outline = points.map(|p| frame.to_local((p - x) / sqrt(dot(p - x, p - x))));
-                SlopeBox::around(wo, alpha, axis, &outline)
+                let corners = [outline[0], outline[2], outline[4], outline[6]];
+                SlopeBox::facing_polygon(wo, alpha, &corners, &outline)
             }
             (None, None) => None,
         }?;

@@ -420,7 +420,8 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
             return self.sample_light(light, at, u);
         };
         let own = 1.0 - LOBE_SHARE;
-        let s = if u.x < own {
+        let from_lobe = u.x >= own;
+        let s = if !from_lobe {
             self.sample_light(light, at, Vec2::new(u.x / own, u.y))?
         } else {
             let ray = Ray { origin: at.p, dir: lobe.sample(Vec2::new((u.x - own) / LOBE_SHARE, u.y))? };
@@ -432,7 +433,13 @@ impl<'a, const S: usize, const L: usize, const M: usize> LightSampler<'a, S, L, 
             let pdf = self.pdf_light(light, at, &y);
             LightSample { wi: ray.dir, distance, radiance, pdf, delta: false, emitter: Some(emitter) }
         };
-        let pdf = own * s.pdf + LOBE_SHARE * lobe.pdf(s.wi);
+        let lobe_pdf = lobe.pdf(s.wi);
+        // A lobe sample on its box's side, which the direction's rounding put just outside: no
+        // sample (its pdf would be the light's part alone, and its weight a spike).
+        if from_lobe && !(lobe_pdf > 0.0) {
+            return None;
+        }
+        let pdf = own * s.pdf + LOBE_SHARE * lobe_pdf;
         positive_finite(pdf).then_some(LightSample { pdf, ..s })
     }
 

@@ -471,18 +471,55 @@ impl SlopeBox {
         Self::new(alpha, g, Vec2::new(near.dot(g), hi.x), Vec2::new(lo.y, hi.y))
     }
 
-    /// The box of a GGX receiver's slopes (seen from local `wo`) that reflect towards the unit
-    /// local directions `outline` (points of a light's outline): `g` from the mirror
-    /// direction's slope (0) towards the slope of the unit direction `center`, the box the bounds
-    /// of the outline's slopes along and across it. `None` where a half vector is not above the
-    /// receiver or the box is not usable.
+    /// The box of a GGX receiver's slopes (seen from local `wo`) that reflect towards a convex
+    /// polygonal light whose corners, in order, lie in the unit local directions `corners`. Each
+    /// edge spans a great circle of directions; the box's near side is the tangent, in slope
+    /// space, to the image of the great circle that the mirror direction of `wo` lies farthest
+    /// outside of (or, inside the light, nearest), at its point nearest the mirror direction
+    /// (exact to first order there, as [`SlopeBox::facing_cone`]); its other sides are the
+    /// bounds of the images of that point and of `outline` (points of the light's outline).
+    /// `None` where the corners span no area, a half vector is not above the receiver, or the
+    /// box is not usable.
     #[inline]
-    pub fn around(wo: Vec3, alpha: f32, center: Vec3, outline: &[Vec3]) -> Option<Self> {
-        let c = half_vector_slope(wo + center)?;
-        let len = sqrt(c.dot(c));
-        let g = if len > 0.0 && len.is_finite() { c / len } else { Vec2::X };
-        let (lo, hi) = slope_bounds(g, outline.iter().map(|d| half_vector_slope(wo + *d)))?;
-        Self::new(alpha, g, Vec2::new(lo.x, hi.x), Vec2::new(lo.y, hi.y))
+    pub fn facing_polygon<const N: usize, const M: usize>(
+        wo: Vec3,
+        alpha: f32,
+        corners: &[Vec3; N],
+        outline: &[Vec3; M],
+    ) -> Option<Self> {
+        let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
+        // The edge planes' unit normals, turned towards the light: the sine of the mirror
+        // direction's angle inside each edge is its dot with the normal.
+        let (mut inside, mut normal) = (f32::INFINITY, Vec3::ZERO);
+        let mut prev = *corners.last()?;
+        for (i, &c) in corners.iter().enumerate() {
+            let n = try_normalize(prev.cross(c))?;
+            // The corner after this edge's end, on the light's side of its plane.
+            let next = *corners.get((i + 1) % N)?;
+            let n = if dot(n, next) < 0.0 { -n } else { n };
+            let sine = dot(mirror, n);
+            if sine < inside {
+                (inside, normal) = (sine, n);
+            }
+            prev = c;
+        }
+        // The edge's point nearest the mirror direction, and its tangents along and inward.
+        let edge = try_normalize(mirror - normal * inside)?;
+        let along = normal.cross(edge);
+        let v = wo + edge;
+        let near = half_vector_slope(v)?;
+        let image = |d: Vec3| Vec2::new(v.x * d.z - d.x * v.z, v.y * d.z - d.y * v.z);
+        let (along, inward) = (image(along), image(normal));
+        let g = Vec2::new(-along.y, along.x);
+        let g = if g.dot(inward) < 0.0 { -g } else { g };
+        let len = sqrt(g.dot(g));
+        if !(len > 0.0 && len.is_finite()) {
+            return None;
+        }
+        let g = g / len;
+        let points = outline.iter().map(|d| half_vector_slope(wo + *d));
+        let (lo, hi) = slope_bounds(g, core::iter::once(Some(near)).chain(points))?;
+        Self::new(alpha, g, Vec2::new(near.dot(g), hi.x), Vec2::new(lo.y, hi.y))
     }
 
     /// Whether the box holds every slope within `radius` of the mirror direction's (0).
@@ -901,6 +938,61 @@ mod tests {
         }
         // (About three in four: the near side is the edge's tangent, which the edge leaves.)
         assert!(total > 4000 && inside * 10 > total * 6, "{inside} of {total} in the cone");
+    }
+
+    /// The box facing a quad's nearest edge: with the mirror direction just outside the edge,
+    /// the box starts beyond it and its samples mostly reach the quad; just inside, it holds
+    /// the mirror direction; deep inside, it holds a disc of ten alphas (the mixture then stays
+    /// off).
+    #[test]
+    fn the_slope_box_faces_the_quads_nearest_edge() {
+        // A near-mirror at the origin; a 2 x 2 quad facing -x at x = 3, from y = 1 to 3 (local z
+        // is up: the quad's lower edge is atan(1/3) above the horizon).
+        let corners = [
+            Vec3::new(3.0, -1.0, 1.0),
+            Vec3::new(3.0, 1.0, 1.0),
+            Vec3::new(3.0, 1.0, 3.0),
+            Vec3::new(3.0, -1.0, 3.0),
+        ];
+        let mid = |a: Vec3, b: Vec3| (a + b) * 0.5;
+        let c = corners;
+        let outline =
+            [c[0], mid(c[0], c[1]), c[1], mid(c[1], c[2]), c[2], mid(c[2], c[3]), c[3], mid(c[3], c[0])]
+                .map(|p| p.normalize());
+        let dirs = corners.map(|p| p.normalize());
+        let alpha = 0.01;
+        let lower = (1.0f32 / 3.0).atan();
+        // The mirror direction `above` radians above the lower edge, towards +x.
+        let box_at = |above: f32| {
+            let t = lower + above;
+            let wo = Vec3::new(-t.cos(), 0.0, t.sin());
+            (wo, SlopeBox::facing_polygon(wo, alpha, &dirs, &outline).unwrap())
+        };
+        let in_quad = |wi: Vec3| {
+            let p = wi * (3.0 / wi.x);
+            wi.x > 0.0 && p.y.abs() <= 1.0 && (1.0..=3.0).contains(&p.z)
+        };
+        for above in [-0.005f32, -0.02] {
+            let (wo, b) = box_at(above);
+            assert!(b.t.x > 0.0 && !b.holds_disc(0.0), "{above}: {b:?}");
+            let (mut inside, mut total) = (0, 0);
+            for i in 0..64 {
+                for j in 0..64 {
+                    let u = Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
+                    let Some(wi) = sample_ggx_reflection_in(wo, &b, u) else { continue };
+                    total += 1;
+                    inside += usize::from(in_quad(wi));
+                    assert!(ggx_reflection_in_pdf(wo, &b, wi) > 0.0);
+                }
+            }
+            assert!(total > 4000 && inside * 10 > total * 9, "{above}: {inside} of {total} on the quad");
+        }
+        let (_, b) = box_at(0.005);
+        assert!(b.t.x < 0.0 && b.holds_disc(0.0) && !b.holds_disc(10.0 * alpha), "{b:?}");
+        // Halfway up the quad: 0.23 radians from the lower and upper edges' directions, 0.12 in
+        // slopes (half the angle).
+        let (_, b) = box_at(0.23);
+        assert!(b.holds_disc(0.1), "{b:?}");
     }
 
     #[test]
