@@ -22,7 +22,9 @@
 use crate::error::{Field, SceneError};
 use crate::material::Material;
 use crate::math::{Frame, Vec2, Vec3, dot, sqrt};
-use crate::sampling::{SlopeBox, cone_one_minus_cos, ggx_reflection_in_pdf, sample_ggx_reflection_in};
+use crate::sampling::{
+    SlopeBox, cone_one_minus_cos, ggx_reflection_in_pdf, nearest_edge, sample_ggx_reflection_in,
+};
 use crate::shape::Shape;
 
 /// Whether light samples also follow a glossy receiver's lobe where it meets the light.
@@ -92,6 +94,12 @@ pub const LOBE_NARROWER: f32 = 0.5;
 /// the mirror direction: the lobe lies inside the light, and BSDF sampling finds it.
 pub const LOBE_INSIDE: f32 = 10.0;
 
+/// The lobe does not apply where the mirror direction lies farther than this many alphas (an
+/// angle) outside a quad light: its slopes are then at least half as many alphas from the
+/// quad's (a half vector turns half as far as the reflected direction, and a slope at least as
+/// far as its normal), where the lobe's tail holds under 1e-4 of it.
+pub const LOBE_REACH: f32 = 100.0;
+
 /// The lobe's share of the light samples where it applies. (Veach as above, with this factor
 /// at 1/2: 1.99e-4 at 3/4, 2.12e-4 at 1/2, 2.54e-4 at 1/4; 1.96e-4 at 7/8, a margin too small
 /// to give up the light's own samples for.)
@@ -115,8 +123,9 @@ impl Lobe {
     /// area light of shape `shape`, where the mixture applies: a GGX receiver whose lobe is
     /// narrower than the light ([`LOBE_NARROWER`]), outside the light's bounding sphere, and a
     /// box of slopes that faces it. The box is exact to first order at a sphere's rim
-    /// ([`SlopeBox::facing_cone`]) and faces a quad's edge nearest the mirror direction in the
-    /// image of its corners and edge midpoints ([`SlopeBox::facing_polygon`]).
+    /// ([`SlopeBox::facing_cone`]) and at the edge of a quad nearest the mirror direction
+    /// ([`SlopeBox::facing_edge`]), within [`LOBE_REACH`] alphas outside it and twice
+    /// [`LOBE_INSIDE`] inside.
     #[inline]
     pub fn towards(shape: &Shape, x: Vec3, n: Vec3, wo: Vec3, bsdf: &Material) -> Option<Self> {
         let Material::GgxConductor { alpha, .. } = *bsdf else { return None };
@@ -140,20 +149,18 @@ impl Lobe {
                 SlopeBox::facing_cone(wo, alpha, axis, 1.0 - cone_one_minus_cos(r2 / d2), sin_max)
             }
             (None, Some(c)) => {
+                // Where the mirror direction lies against the quad's outline decides first: far
+                // outside or deep inside, nothing more is needed.
+                let corners = c.map(|p| frame.to_local(p - x));
+                let edge = nearest_edge(Vec3::new(-wo.x, -wo.y, wo.z), &corners)?;
+                if !(edge.sine > -LOBE_REACH * alpha && edge.sine < 2.0 * LOBE_INSIDE * alpha) {
+                    return None;
+                }
                 let mid = |a: Vec3, b: Vec3| (a + b) * 0.5;
-                let points = [
-                    c[0],
-                    mid(c[0], c[1]),
-                    c[1],
-                    mid(c[1], c[2]),
-                    c[2],
-                    mid(c[2], c[3]),
-                    c[3],
-                    mid(c[3], c[0]),
-                ];
-                let outline = points.map(|p| frame.to_local((p - x) / sqrt(dot(p - x, p - x))));
-                let corners = [outline[0], outline[2], outline[4], outline[6]];
-                SlopeBox::facing_polygon(wo, alpha, &corners, &outline)
+                let [c0, c1, c2, c3] = corners;
+                let points = [c0, mid(c0, c1), c1, mid(c1, c2), c2, mid(c2, c3), c3, mid(c3, c0)];
+                let outline = points.map(|p| p / sqrt(dot(p, p)));
+                SlopeBox::facing_edge(wo, alpha, &edge, &outline)
             }
             (None, None) => None,
         }?;

@@ -390,6 +390,39 @@ pub fn ggx_vndf_pdf(wo: Vec3, m: Vec3, alpha: f32) -> f32 {
     ggx_g1(wo, alpha) * max0(wo.dot(m)) * ggx_d(m, alpha) / wo.z
 }
 
+/// Where a unit direction lies against a convex spherical polygon (a polygonal light seen from a
+/// point): the edge whose great circle it lies farthest outside of or, inside the polygon,
+/// nearest to ([`nearest_edge`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NearestEdge {
+    /// The sine of the direction's angle inside the edge's great circle (negative outside): for
+    /// a direction outside the polygon, a lower bound of its angle to it.
+    pub sine: f32,
+    /// The unit normal of the edge's plane, towards the polygon.
+    pub normal: Vec3,
+}
+
+/// The edge of the convex spherical polygon with corners in the directions `corners` (in order,
+/// of any length) nearest the unit direction `d` ([`NearestEdge`]); `None` where two
+/// consecutive corners are parallel.
+#[inline]
+pub fn nearest_edge<const N: usize>(d: Vec3, corners: &[Vec3; N]) -> Option<NearestEdge> {
+    let mut nearest = NearestEdge { sine: f32::INFINITY, normal: Vec3::ZERO };
+    let mut prev = *corners.last()?;
+    for (i, &c) in corners.iter().enumerate() {
+        let n = try_normalize(prev.cross(c))?;
+        // The corner after this edge's end is on the polygon's side of its plane.
+        let next = *corners.get((i + 1) % N)?;
+        let normal = if dot(n, next) < 0.0 { -n } else { n };
+        let sine = dot(d, normal);
+        if sine < nearest.sine {
+            nearest = NearestEdge { sine, normal };
+        }
+        prev = c;
+    }
+    Some(nearest)
+}
+
 /// A box of GGX microfacet slopes, t0 <= s . g <= t1 along the unit `g` and w0 <= s . g' <= w1
 /// across it (g' = `g` turned by a quarter), sampled by the isotropic slope distribution
 /// P22(s) = 1 / (pi a^2 (1 + |s|^2 / a^2)^2) (Walter et al. 2007; D(m) cos^4(theta_m) = P22)
@@ -472,44 +505,27 @@ impl SlopeBox {
     }
 
     /// The box of a GGX receiver's slopes (seen from local `wo`) that reflect towards a convex
-    /// polygonal light whose corners, in order, lie in the unit local directions `corners`. Each
-    /// edge spans a great circle of directions; the box's near side is the tangent, in slope
-    /// space, to the image of the great circle that the mirror direction of `wo` lies farthest
-    /// outside of (or, inside the light, nearest), at its point nearest the mirror direction
+    /// polygonal light, whose edge nearest the mirror direction of `wo` is `edge`
+    /// ([`nearest_edge`]). The edge spans a great circle of directions; the box's near side is
+    /// the tangent, in slope space, to its image at its point nearest the mirror direction
     /// (exact to first order there, as [`SlopeBox::facing_cone`]); its other sides are the
-    /// bounds of the images of that point and of `outline` (points of the light's outline).
-    /// `None` where the corners span no area, a half vector is not above the receiver, or the
-    /// box is not usable.
+    /// bounds of the images of that point and of `outline` (unit directions to points of the
+    /// light's outline). `None` where a half vector is not above the receiver or the box is not
+    /// usable.
     #[inline]
-    pub fn facing_polygon<const N: usize, const M: usize>(
+    pub fn facing_edge<const M: usize>(
         wo: Vec3,
         alpha: f32,
-        corners: &[Vec3; N],
+        edge: &NearestEdge,
         outline: &[Vec3; M],
     ) -> Option<Self> {
         let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
-        // The edge planes' unit normals, turned towards the light: the sine of the mirror
-        // direction's angle inside each edge is its dot with the normal.
-        let (mut inside, mut normal) = (f32::INFINITY, Vec3::ZERO);
-        let mut prev = *corners.last()?;
-        for (i, &c) in corners.iter().enumerate() {
-            let n = try_normalize(prev.cross(c))?;
-            // The corner after this edge's end, on the light's side of its plane.
-            let next = *corners.get((i + 1) % N)?;
-            let n = if dot(n, next) < 0.0 { -n } else { n };
-            let sine = dot(mirror, n);
-            if sine < inside {
-                (inside, normal) = (sine, n);
-            }
-            prev = c;
-        }
         // The edge's point nearest the mirror direction, and its tangents along and inward.
-        let edge = try_normalize(mirror - normal * inside)?;
-        let along = normal.cross(edge);
-        let v = wo + edge;
+        let nearest = try_normalize(mirror - edge.normal * edge.sine)?;
+        let v = wo + nearest;
         let near = half_vector_slope(v)?;
         let image = |d: Vec3| Vec2::new(v.x * d.z - d.x * v.z, v.y * d.z - d.y * v.z);
-        let (along, inward) = (image(along), image(normal));
+        let (along, inward) = (image(edge.normal.cross(nearest)), image(edge.normal));
         let g = Vec2::new(-along.y, along.x);
         let g = if g.dot(inward) < 0.0 { -g } else { g };
         let len = sqrt(g.dot(g));
@@ -966,7 +982,9 @@ mod tests {
         let box_at = |above: f32| {
             let t = lower + above;
             let wo = Vec3::new(-t.cos(), 0.0, t.sin());
-            (wo, SlopeBox::facing_polygon(wo, alpha, &dirs, &outline).unwrap())
+            let edge = nearest_edge(Vec3::new(-wo.x, -wo.y, wo.z), &dirs).unwrap();
+            assert!((edge.sine - above.sin()).abs() < 1e-5, "{above}: {edge:?}");
+            (wo, SlopeBox::facing_edge(wo, alpha, &edge, &outline).unwrap())
         };
         let in_quad = |wi: Vec3| {
             let p = wi * (3.0 / wi.x);
