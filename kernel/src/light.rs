@@ -4,7 +4,7 @@
 
 use crate::error::{Field, SceneError};
 use crate::ids::ShapeId;
-use crate::math::{PI, Rgb, Vec3, finite3, luminance, max0};
+use crate::math::{PI, Rgb, Vec3, channel_mean, finite3, max0};
 use crate::shape::Shape;
 
 /// The largest radiance (area lights) or intensity (point lights) a scene accepts, per channel:
@@ -88,12 +88,14 @@ impl Light {
         }
     }
 
-    /// Emitted power (luminance), the weight of light selection by power. `shape` is the emitting
+    /// Emitted power (mean of the channels, [`channel_mean`]), the weight of light selection by power. `shape` is the emitting
     /// shape of an area light (ignored for point lights).
     pub fn power(&self, shape: Option<&Shape>) -> f32 {
         match *self {
-            Light::Area { radiance, .. } => shape.map_or(0.0, |s| PI * max0(luminance(radiance)) * s.area()),
-            Light::Point { intensity, .. } => 4.0 * PI * max0(luminance(intensity)),
+            Light::Area { radiance, .. } => {
+                shape.map_or(0.0, |s| PI * max0(channel_mean(radiance)) * s.area())
+            }
+            Light::Point { intensity, .. } => 4.0 * PI * max0(channel_mean(intensity)),
         }
     }
 }

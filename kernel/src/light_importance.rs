@@ -11,7 +11,7 @@
 
 use crate::light::Light;
 use crate::material::{Material, Outgoing};
-use crate::math::{Frame, PI, Vec3, clamp, finite3, luminance, max0, safe_sqrt, sqrt, try_normalize};
+use crate::math::{Frame, PI, Vec3, channel_mean, clamp, finite3, max0, safe_sqrt, sqrt, try_normalize};
 use crate::shape::Shape;
 
 /// What a point sees of a light: a cone of directions that holds every direction to it, and
@@ -23,11 +23,11 @@ pub struct LightCone {
     /// Sine of the cone's half-angle theta_max (below pi / 2): 0 for a point light; 2 for a cone
     /// of every direction (the point is within a quad light's bounding sphere).
     pub sin_max: f32,
-    /// Luminance of the radiance times the solid angle, estimated as pi r^2 / d^2 (spheres) or
-    /// A cos / d^2 (quads), at most 2 pi; or the luminance of the intensity over the squared
+    /// Brightness ([`channel_mean`]) of the radiance times the solid angle, estimated as pi r^2 / d^2 (spheres) or
+    /// A cos / d^2 (quads), at most 2 pi; or the brightness of the intensity over the squared
     /// distance (point lights): about the irradiance at normal incidence.
     pub strength: f32,
-    /// Luminance of the radiance (area lights): the reflected radiance is at most this times
+    /// Brightness of the radiance (area lights): the reflected radiance is at most this times
     /// the BSDF's albedo. `None` for point lights.
     pub radiance: Option<f32>,
 }
@@ -43,8 +43,8 @@ pub enum LightGeometry {
     Point {
         /// Position.
         position: Vec3,
-        /// Luminance of the intensity (at least 0).
-        luminance: f32,
+        /// Brightness ([`channel_mean`]) of the intensity (at least 0).
+        brightness: f32,
     },
     /// A sphere light.
     Sphere {
@@ -54,8 +54,8 @@ pub enum LightGeometry {
         radius: f32,
         /// Its square.
         radius2: f32,
-        /// Luminance of the radiance (at least 0).
-        luminance: f32,
+        /// Brightness ([`channel_mean`]) of the radiance (at least 0).
+        brightness: f32,
     },
     /// A quad light.
     Quad {
@@ -69,8 +69,8 @@ pub enum LightGeometry {
         normal: Vec3,
         /// Area.
         area: f32,
-        /// Luminance of the radiance (at least 0).
-        luminance: f32,
+        /// Brightness ([`channel_mean`]) of the radiance (at least 0).
+        brightness: f32,
     },
     /// An area light without its shape: it sends nothing anywhere.
     Dark,
@@ -81,15 +81,15 @@ impl LightGeometry {
     pub fn new(light: &Light, shape: Option<&Shape>) -> Self {
         match (*light, shape) {
             (Light::Point { position, intensity }, _) => {
-                LightGeometry::Point { position, luminance: max0(luminance(intensity)) }
+                LightGeometry::Point { position, brightness: max0(channel_mean(intensity)) }
             }
             (Light::Area { .. }, None) => LightGeometry::Dark,
             (Light::Area { radiance, .. }, Some(shape)) => {
-                let luminance = max0(luminance(radiance));
+                let brightness = max0(channel_mean(radiance));
                 let radius = shape.bounding_radius();
                 let radius2 = radius * radius;
                 match shape.as_sphere() {
-                    Some((center, _)) => LightGeometry::Sphere { center, radius, radius2, luminance },
+                    Some((center, _)) => LightGeometry::Sphere { center, radius, radius2, brightness },
                     None => LightGeometry::Quad {
                         centroid: shape.centroid(),
                         radius,
@@ -97,7 +97,7 @@ impl LightGeometry {
                         // A quad's normal is the same at every point.
                         normal: shape.normal_at(shape.centroid()),
                         area: shape.area(),
-                        luminance,
+                        brightness,
                     },
                 }
             }
@@ -112,17 +112,17 @@ impl LightGeometry {
     #[inline(always)]
     pub fn cone(&self, x: Vec3) -> Option<LightCone> {
         let cone = match *self {
-            LightGeometry::Point { position, luminance } => {
+            LightGeometry::Point { position, brightness } => {
                 let v = position - x;
                 let d2 = v.length_squared();
                 if !(d2 > 0.0) {
                     return None;
                 }
                 let inv_d = 1.0 / sqrt(d2);
-                let strength = luminance * (inv_d * inv_d);
+                let strength = brightness * (inv_d * inv_d);
                 LightCone { axis: v * inv_d, sin_max: 0.0, strength, radiance: None }
             }
-            LightGeometry::Sphere { center, radius, radius2, luminance } => {
+            LightGeometry::Sphere { center, radius, radius2, brightness } => {
                 let v = center - x;
                 let d2 = v.length_squared();
                 if !(d2 > radius2) {
@@ -132,13 +132,13 @@ impl LightGeometry {
                 let inv_d = 1.0 / sqrt(d2);
                 let sin_max = radius * inv_d;
                 let solid_angle = PI * (sin_max * sin_max);
-                let strength = luminance * solid_angle.min(2.0 * PI);
-                LightCone { axis: v * inv_d, sin_max, strength, radiance: Some(luminance) }
+                let strength = brightness * solid_angle.min(2.0 * PI);
+                LightCone { axis: v * inv_d, sin_max, strength, radiance: Some(brightness) }
             }
-            LightGeometry::Quad { centroid, radius, radius2, normal, area, luminance } => {
+            LightGeometry::Quad { centroid, radius, radius2, normal, area, brightness } => {
                 let v = centroid - x;
                 let d2 = v.length_squared();
-                let radiance = Some(luminance);
+                let radiance = Some(brightness);
                 // A quad emits on the side of its normal only; `x` behind its plane sees none.
                 let facing = normal.dot(-v);
                 if !(facing > 0.0) {
@@ -148,12 +148,12 @@ impl LightGeometry {
                     let inv_d = 1.0 / sqrt(d2);
                     let sin_max = radius * inv_d;
                     let solid_angle = (area * facing) * (inv_d * inv_d * inv_d);
-                    let strength = luminance * solid_angle.min(2.0 * PI);
+                    let strength = brightness * solid_angle.min(2.0 * PI);
                     LightCone { axis: v * inv_d, sin_max, strength, radiance }
                 } else {
                     // Within a quad's bounding sphere: up to the whole hemisphere.
                     let axis = try_normalize(v).unwrap_or(Vec3::Z);
-                    LightCone { axis, sin_max: EVERY_DIRECTION, strength: luminance * 2.0 * PI, radiance }
+                    LightCone { axis, sin_max: EVERY_DIRECTION, strength: brightness * 2.0 * PI, radiance }
                 }
             }
             LightGeometry::Dark => return None,
@@ -270,7 +270,7 @@ mod packed {
         radius: f32x4,
         /// r^2; +infinity in an empty lane, which no point is outside of.
         radius2: f32x4,
-        luminance: f32x4,
+        brightness: f32x4,
         index: [usize; 4],
         len: usize,
     }
@@ -290,7 +290,7 @@ mod packed {
                 c: [f32x4::ZERO; 3],
                 radius: f32x4::ZERO,
                 radius2: f32x4::splat(f32::INFINITY),
-                luminance: f32x4::ZERO,
+                brightness: f32x4::ZERO,
                 index: [0; 4],
                 len: 0,
             }
@@ -298,7 +298,7 @@ mod packed {
 
         /// Puts light `index` in the next lane; false when the packet is full.
         pub fn add(&mut self, index: usize, g: &LightGeometry) -> bool {
-            let (LightGeometry::Sphere { center, radius, radius2, luminance }, true) = (*g, self.len < 4)
+            let (LightGeometry::Sphere { center, radius, radius2, brightness }, true) = (*g, self.len < 4)
             else {
                 return false;
             };
@@ -313,7 +313,7 @@ mod packed {
             set(&mut self.c[2], center.z);
             set(&mut self.radius, radius);
             set(&mut self.radius2, radius2);
-            set(&mut self.luminance, luminance);
+            set(&mut self.brightness, brightness);
             self.index[k] = index;
             self.len += 1;
             true
@@ -333,7 +333,7 @@ mod packed {
             let solid_angle = f32x4::splat(PI) * (sin_max * sin_max);
             // f32::min against a number: the number where `solid_angle` is NaN.
             let two_pi = f32x4::splat(2.0 * PI);
-            let strength = self.luminance * solid_angle.cmp_lt(two_pi).blend(solid_angle, two_pi);
+            let strength = self.brightness * solid_angle.cmp_lt(two_pi).blend(solid_angle, two_pi);
             let (ax, ay, az) = (vx * inv_d, vy * inv_d, vz * inv_d);
             let ok = outside & finite(strength) & finite(ax) & finite(ay) & finite(az);
             let mask = ok.move_mask();
@@ -356,7 +356,7 @@ mod packed {
                 axis: Vec3::new(ax[k], ay[k], az[k]),
                 sin_max: lanes.sin_max.to_array()[k],
                 strength: lanes.strength.to_array()[k],
-                radiance: Some(self.luminance.to_array()[k]),
+                radiance: Some(self.brightness.to_array()[k]),
             }
         }
 
@@ -406,7 +406,7 @@ mod packed {
         ) {
             let Some(lanes) = self.lanes(x, n) else { return };
             let importance = lanes.importance.to_array();
-            let contribution = ggx_contributions(r, alpha, reflectance, &lanes, self.luminance).to_array();
+            let contribution = ggx_contributions(r, alpha, reflectance, &lanes, self.brightness).to_array();
             for (k, ((&index, &importance), &contribution)) in
                 self.index.iter().zip(&importance).zip(&contribution).enumerate().take(self.len)
             {
@@ -433,7 +433,7 @@ mod packed {
         v.cmp_gt(f32x4::ZERO).blend(v, f32x4::ZERO)
     }
 
-    /// [`LightCone::contribution_to`] of every lane's cone (radiance `luminance`) to the GGX
+    /// [`LightCone::contribution_to`] of every lane's cone (radiance `brightness`) to the GGX
     /// receiver `r` (`alpha`, `reflectance`): [`super::nearest_in_cone`], then
     /// [`Outgoing::eval`](crate::material::Outgoing::eval) with [`crate::sampling::ggx_d`] and
     /// [`crate::sampling::ggx_g1`], with the same operations in the same order; each branch
@@ -444,7 +444,7 @@ mod packed {
         alpha: f32,
         reflectance: Rgb,
         lanes: &Lanes,
-        luminance: f32x4,
+        brightness: f32x4,
     ) -> f32x4 {
         let s = f32x4::splat;
         let (zero, one) = (f32x4::ZERO, f32x4::ONE);
@@ -481,15 +481,13 @@ mod packed {
         // ggx_g1(w, alpha) (w.z > 0 where it is used).
         let g1 = (wz + wz) / (wz + (s(a2) + s(1.0 - a2) * (wz * wz)).sqrt());
         let q = (d * s(r.bsdf.pdf_scale())) * g1;
-        let lum = s(0.2126) * (s(reflectance.x) * q)
-            + s(0.7152) * (s(reflectance.y) * q)
-            + s(0.0722) * (s(reflectance.z) * q);
+        let lum = (s(reflectance.x) * q + s(reflectance.y) * q + s(reflectance.z) * q) * s(1.0 / 3.0);
         let black = s(wo.z).cmp_le(zero) | wz.cmp_le(zero) | !(h2.cmp_gt(zero) & finite(h2));
         let lum = black.blend(zero, lum);
-        // strength times max0(luminance), at most the radiance times the albedo bound
+        // strength times max0(channel mean), at most the radiance times the albedo bound
         // (f32::min: the bound where the estimate is NaN, the estimate where the bound is).
         let estimate = lanes.strength * max0(lum);
-        let cap = luminance * s(r.albedo);
+        let cap = brightness * s(r.albedo);
         let estimate = cap.cmp_ne(cap).blend(estimate, estimate.cmp_lt(cap).blend(estimate, cap));
         finite(estimate).blend(estimate, zero)
     }
@@ -540,7 +538,7 @@ impl LightCone {
     }
 
     /// The estimated reflected radiance towards `wo` (local, in `frame`) of a receiver with
-    /// `bsdf`: strength times f cos (luminance) in the direction of the cone nearest the BSDF's
+    /// `bsdf`: strength times f cos (brightness) in the direction of the cone nearest the BSDF's
     /// lobe axis ([`Material::lobe_axis`]), at most the radiance times the albedo bound. Zero
     /// where that direction is below the horizon, though other directions of the cone may not
     /// be: not a bound (see [`weighs_bsdf`] for Lambertian receivers).
@@ -553,7 +551,7 @@ impl LightCone {
     #[inline]
     pub fn contribution_to(&self, receiver: &Receiver) -> f32 {
         let w = nearest_in_cone(receiver.frame.to_local(self.axis), self.sin_max, receiver.lobe);
-        let estimate = self.strength * max0(luminance(receiver.bsdf.eval(w)));
+        let estimate = self.strength * max0(channel_mean(receiver.bsdf.eval(w)));
         let estimate = match self.radiance {
             Some(le) => estimate.min(le * receiver.albedo),
             None => estimate,
@@ -563,7 +561,7 @@ impl LightCone {
 }
 
 /// A receiver as [`LightCone::contribution_to`] sees it: its frame, its BSDF seen from `wo`,
-/// the lobe axis and the luminance of the albedo bound.
+/// the lobe axis and the brightness of the albedo bound.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Receiver {
     frame: Frame,
@@ -581,14 +579,14 @@ impl Receiver {
             frame: *frame,
             bsdf: *seen,
             lobe: bsdf.lobe_axis(seen.wo()),
-            albedo: max0(luminance(bsdf.albedo_bound())),
+            albedo: max0(channel_mean(bsdf.albedo_bound())),
         }
     }
 }
 
 /// The importance of `light` (emitting from `shape` for area lights) at point `x` with unit
-/// normal `n`: luminance of the radiance times the subtended solid angle times the largest
-/// receiver cosine (spheres and quads), or luminance of the intensity over the squared distance
+/// normal `n`: brightness of the radiance times the subtended solid angle times the largest
+/// receiver cosine (spheres and quads), or brightness of the intensity over the squared distance
 /// times the receiver cosine (point lights). Finite and non-negative.
 pub fn light_importance(light: &Light, shape: Option<&Shape>, x: Vec3, n: Vec3) -> f32 {
     light_cone(light, shape, x).map_or(0.0, |cone| cone.importance(n))
@@ -803,7 +801,7 @@ mod tests {
         let (le, se) = area(&edge, 1.0);
         let ce = light_cone(&le, Some(&se), Vec3::ZERO).unwrap();
         assert!(ce.contribution(&ggx, &frame, wo) >= 0.5 * fa, "{}", ce.contribution(&ggx, &frame, wo));
-        assert!(fa <= 0.9 * luminance(Rgb::ONE) + 1e-6);
+        assert!(fa <= 0.9 * channel_mean(Rgb::ONE) + 1e-6);
         assert!(weighs_bsdf(&ggx) && !weighs_bsdf(&Material::lambertian(Rgb::ONE).unwrap()));
     }
 }

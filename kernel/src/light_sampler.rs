@@ -150,7 +150,7 @@ impl core::fmt::Display for QuadSampling {
 pub enum LightSelection {
     /// Every light equally likely.
     Uniform,
-    /// Proportional to emitted power (luminance), on the grid of the random number (see
+    /// Proportional to emitted power (the mean of its channels), on the grid of the random number (see
     /// [`GridDistribution`]): every light that emits is chosen with exactly the probability the
     /// weights are given.
     Power,

@@ -160,6 +160,15 @@ pub fn luminance(c: Rgb) -> f32 {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }
 
+/// The mean of a colour's channels: what a light or a BSDF value weighs when one sample must
+/// serve every channel (light selection). Each channel's relative error counts alike, as in the
+/// relative MSE; luminance would give green ten times blue's say, and a blue light too few
+/// samples for its share of the blue channel (pbrt-v4 averages the spectrum likewise).
+#[inline]
+pub fn channel_mean(c: Rgb) -> f32 {
+    (c.x + c.y + c.z) * (1.0 / 3.0)
+}
+
 /// True when every component of the vector is finite.
 #[inline]
 pub fn finite3(v: Vec3) -> bool {

@@ -1,5 +1,5 @@
 //! Closed forms to test the estimators against: irradiance from spheres and polygons, solid
-//! angles, luminance.
+//! angles, the mean of a colour's channels.
 
 use std::f64::consts::PI;
 
@@ -56,9 +56,9 @@ pub fn polygon_solid_angle(x: DVec3, verts: &[DVec3]) -> f64 {
     (1..verts.len() - 1).map(|i| tri(verts[0] - x, verts[i] - x, verts[i + 1] - x)).sum()
 }
 
-/// Rec. 709 luminance in f64 (the kernel's power-based light selection uses it).
-pub fn luminance(c: Rgb) -> f64 {
-    0.2126 * f64::from(c.x) + 0.7152 * f64::from(c.y) + 0.0722 * f64::from(c.z)
+/// The mean of a colour's channels in f64 (the kernel's light selection weighs colours by it).
+pub fn channel_mean(c: Rgb) -> f64 {
+    (f64::from(c.x) + f64::from(c.y) + f64::from(c.z)) / 3.0
 }
 
 /// The three channels of a colour in f64.

@@ -589,7 +589,7 @@ fn pdfs_are_finite_and_weights_partition_unity() {
     tally.require(&[
         ("light sample with f > 0", 15_000),
         ("light sample pdf re-evaluated (cone)", 13_000),
-        ("light sample pdf re-evaluated (lobe mixing)", 2_000),
+        ("light sample pdf re-evaluated (lobe mixing)", 1_500),
         ("light sample pdf re-evaluated (area)", 20_000),
         ("BSDF sample hitting a light", 6_000),
         ("BSDF sample hitting a light, GGX alpha < 1e-3", 600),

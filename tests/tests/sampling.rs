@@ -18,8 +18,8 @@ use picomis::{
     ShapeId, SphereSampling, SurfacePoint, Vec2, Vec3,
 };
 use picomis_tests::{
-    Cap, DVec3, Histogram2d, Stats, assert_chi2, assert_unbiased, camera, cone_measure, d3, f3, frame,
-    histogram, luminance, polygon_solid_angle, quad_corners,
+    Cap, DVec3, Histogram2d, Stats, assert_chi2, assert_unbiased, camera, channel_mean, cone_measure, d3, f3,
+    frame, histogram, polygon_solid_angle, quad_corners,
 };
 use std::f64::consts::PI;
 
@@ -357,24 +357,24 @@ fn light_scene() -> LightScene {
 }
 
 /// Power of each light of [`light_scene`], computed independently: pi L A (area lights),
-/// 4 pi I (point lights), luminance of each.
+/// 4 pi I (point lights), the mean of each one's channels.
 fn light_powers(s: &LightScene) -> Vec<f64> {
     s.lights()
         .iter()
         .map(|l| match l {
             Light::Area { radiance, .. } => {
-                PI * luminance(*radiance) * f64::from(s.light_shape(l).unwrap().area())
+                PI * channel_mean(*radiance) * f64::from(s.light_shape(l).unwrap().area())
             }
-            Light::Point { intensity, .. } => 4.0 * PI * luminance(*intensity),
+            Light::Point { intensity, .. } => 4.0 * PI * channel_mean(*intensity),
         })
         .collect()
 }
 
 /// Each light's importance at a receiver at `x` with normal `n`, computed independently in
-/// f64 from its documented formula: luminance of the radiance times the solid angle (spheres:
+/// f64 from its documented formula: the channel mean of the radiance times the solid angle (spheres:
 /// pi r^2 / d^2; quads: A cos / d^2) times min(1, cos theta + sin theta_max), theta the angle
 /// between `n` and the direction to the light's centre, theta_max the half-angle of its bounding
-/// cone; luminance of the intensity times the cosine over d^2 for point lights.
+/// cone; the channel mean of the intensity times the cosine over d^2 for point lights.
 fn light_importances(s: &LightScene, x: DVec3, n: DVec3) -> Vec<f64> {
     let cosine = |axis: DVec3, sin_max: f64| (axis.dot(n) + sin_max).clamp(0.0, 1.0);
     s.lights()
@@ -390,11 +390,11 @@ fn light_importances(s: &LightScene, x: DVec3, n: DVec3) -> Vec<f64> {
                         f64::from(shape.area()) * d3(shape.normal_at(shape.centroid())).dot(-v) / d.powi(3)
                     }
                 };
-                luminance(*radiance) * solid_angle * cosine(v * (1.0 / d), r / d)
+                channel_mean(*radiance) * solid_angle * cosine(v * (1.0 / d), r / d)
             }
             Light::Point { position, intensity } => {
                 let v = d3(*position) - x;
-                luminance(*intensity) * cosine(v.normalize(), 0.0) / v.length_squared()
+                channel_mean(*intensity) * cosine(v.normalize(), 0.0) / v.length_squared()
             }
         })
         .collect()
