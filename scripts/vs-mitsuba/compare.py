@@ -19,7 +19,7 @@ Per scene (`picomis-sim scenes`; `--scenes` picks some, Veach first):
   (the verdict says "close"). Otherwise the verdict is "no", in bold.
 - The reference is independent of picomis: Mitsuba's converged image (`--ref-passes` passes of
   `--ref-spp` spp with `--ref-sampler`, independent seeds; more passes for the scenes of
-  REFERENCE_PASSES; for stress with the tiny light enlarged, see REFERENCE_FIXES), cached under
+  REFERENCE_PASSES; for stress with the tiny light as a point light, see REFERENCE_FIXES), cached under
   the work folder. Its own
   noise is the variance of its mean over the passes; that noise adds its relative MSE to every
   row's, and the table states it and its share of the smallest error compared. (Veach's
@@ -38,6 +38,7 @@ Per scene (`picomis-sim scenes`; `--scenes` picks some, Veach first):
 
 import argparse
 import hashlib
+import math
 import os
 import re
 import statistics
@@ -72,10 +73,13 @@ BLOCK = 16
 # Mitsuba 3.9's tiny spheres are biased: its cone sampling takes 1 - cos(theta_max) in float32,
 # which for stress' r = 0.001 light makes its image of the floor about 11 % too bright (up to 50 %
 # in places; picomis gives the same image at r = 0.001 and r = 0.01). Its references of these
-# scenes therefore render the named sphere lights `factor` times larger and factor^2 times dimmer:
-# the same power, an image that differs by O((r/d)^2) (under 1e-3 here); the emitter mask covers
-# both sizes. Mitsuba's timed renders keep the scene as it is.
-REFERENCE_FIXES = {"stress": {"tiny_light": 10.0}}
+# scenes therefore replace the named sphere lights by point lights of intensity L pi r^2: a
+# Lambertian sphere wholly above a receiver's horizon gives it exactly the irradiance of that
+# point light, and the mask leaves out the pixels that see the sphere. Mitsuba's timed renders
+# keep the scene as it is. (An enlarged sphere, the same power at 10 times the radius, left
+# Mitsuba's floor 0.04 % too bright, its float32 rounding; at 30 times, the sphere's shadow of the
+# quad light, 0.5 % on a band of the floor, showed.)
+REFERENCE_FIXES = {"stress": ["tiny_light"]}
 
 # Reference passes per scene where --ref-passes' default is too few: on lambert_sphere (nothing
 # occludes its light) the control variate's error at 64 spp is below a 16-pass reference's own
@@ -84,7 +88,9 @@ REFERENCE_FIXES = {"stress": {"tiny_light": 10.0}}
 # On Veach the best picomis configuration's error (about 1.9e-4) is five times the noise of the
 # committed ~37,000-spp reference (independent sampler; host-sim/tests/data); 128 passes of 256
 # spp with REFERENCE_SAMPLER bring the reference's share under a few per cent.
-REFERENCE_PASSES = {"lambert_sphere": 64, "veach_mis": 128}
+# On stress, lobe mixing with selection by contribution (about 2.4e-5) put a 16-pass reference's
+# noise at 13 % of the best error; 64 passes bring it to about 3 %.
+REFERENCE_PASSES = {"lambert_sphere": 64, "stress": 64, "veach_mis": 128}
 
 # The references' sampler: multijitter, not ldsampler. Mitsuba 3.9's ldsampler converges to a
 # biased image at the soft edges of glossy reflections: on Veach, the left edge of the r = 0.9
@@ -166,13 +172,18 @@ def export_scene(picomis, name, width, height, work):
     tree.write(xml, encoding="utf-8", xml_declaration=True)
     ref_xml = xml
     if name in REFERENCE_FIXES:
-        for shape in root.iter("shape"):
-            factor = REFERENCE_FIXES[name].get(shape.get("id"))
-            if factor:
-                radius = shape.find("float[@name='radius']")
-                radius.set("value", repr(float(radius.get("value")) * factor))
-                rgb = shape.find("emitter/rgb[@name='radiance']")
-                rgb.set("value", ", ".join(repr(float(v) / factor**2) for v in rgb.get("value").split(",")))
+        for shape in [s for s in root.findall("shape") if s.get("id") in REFERENCE_FIXES[name]]:
+            assert shape.get("type") == "sphere", shape.get("id")
+            r = float(shape.find("float[@name='radius']").get("value"))
+            radiance = [float(v) for v in shape.find("emitter/rgb[@name='radiance']").get("value").split(",")]
+            point = ET.Element("emitter", type="point", id=shape.get("id"))
+            position = ET.SubElement(point, "point", name="position")
+            for axis in "xyz":
+                position.set(axis, shape.find("point[@name='center']").get(axis))
+            intensity = ", ".join(repr(v * math.pi * r * r) for v in radiance)
+            ET.SubElement(point, "rgb", name="intensity", value=intensity)
+            root.remove(shape)
+            root.append(point)
         ref_xml = os.path.join(work, f"{name}.reference.xml")
         tree.write(ref_xml, encoding="utf-8", xml_declaration=True)
     flags = ["--mis", "power", "--beta", "2", "--light-samples", counts.get("emitter_samples", "1"),
@@ -325,7 +336,7 @@ def prepare(args, configs, name, width, height):
     scene.reference_noise = float((var / (scene.reference**2 + 0.01))[scene.keep].mean())
     scene.reference_label = (f"Mitsuba's converged image ({passes} x {args.ref_spp} spp, "
                              f"{args.ref_sampler}"
-                             f"{', with the sphere lights of REFERENCE_FIXES enlarged' if name in REFERENCE_FIXES else ''})")
+                             f"{', with the sphere lights of REFERENCE_FIXES as point lights' if name in REFERENCE_FIXES else ''})")
     return scene
 
 
