@@ -481,27 +481,12 @@ impl SlopeBox {
         let toward = try_normalize(mirror - axis * dot(mirror, axis))?;
         let side = axis.cross(toward);
         let edge = axis * cos_max + toward * sin_max;
-        // Slopes of half vectors v = wo + wi (unnormalized): s = -(v_x, v_y) / v_z, and the
-        // slope-space image of a direction dwi at the edge: -(dwi_xy v_z - v_xy dwi_z) / v_z^2.
-        let v = wo + edge;
-        let near = half_vector_slope(v)?;
-        let image = |d: Vec3| Vec2::new(v.x * d.z - d.x * v.z, v.y * d.z - d.y * v.z);
-        let along = image(side);
-        let inward = image(axis * sin_max - toward * cos_max);
-        let normal = Vec2::new(-along.y, along.x);
-        let g = if normal.dot(inward) < 0.0 { -normal } else { normal };
-        let len = sqrt(g.dot(g));
-        if !(len > 0.0 && len.is_finite()) {
-            return None;
-        }
-        let g = g / len;
         const H: f32 = core::f32::consts::FRAC_1_SQRT_2;
         const RING: [(f32, f32); 7] =
             [(H, H), (0.0, 1.0), (-H, H), (-1.0, 0.0), (-H, -H), (0.0, -1.0), (H, -H)];
         let ring =
             RING.map(|(c, s)| half_vector_slope(wo + axis * cos_max + (toward * c + side * s) * sin_max));
-        let (lo, hi) = slope_bounds(g, core::iter::once(Some(near)).chain(ring))?;
-        Self::new(alpha, g, Vec2::new(near.dot(g), hi.x), Vec2::new(lo.y, hi.y))
+        Self::facing(wo, alpha, edge, side, axis * sin_max - toward * cos_max, ring.into_iter())
     }
 
     /// The box of a GGX receiver's slopes (seen from local `wo`) that reflect towards a convex
@@ -522,19 +507,39 @@ impl SlopeBox {
         let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
         // The edge's point nearest the mirror direction, and its tangents along and inward.
         let nearest = try_normalize(mirror - edge.normal * edge.sine)?;
-        let v = wo + nearest;
+        let others = outline.iter().map(|d| half_vector_slope(wo + *d));
+        Self::facing(wo, alpha, nearest, edge.normal.cross(nearest), edge.normal, others)
+    }
+
+    /// The box whose near side is the tangent, in slope space, to the image of a light's outline
+    /// at the unit direction `at` (local, the outline's point nearest the mirror direction of
+    /// `wo`), where the outline runs along the tangent `along` and the light lies towards the
+    /// tangent `inward`; its other sides bound the images of `at` and the slopes `others` (of
+    /// other points of the outline). `None` where one is `None`, the image of `at` is not above
+    /// the receiver, or the box is not usable.
+    #[inline]
+    fn facing(
+        wo: Vec3,
+        alpha: f32,
+        at: Vec3,
+        along: Vec3,
+        inward: Vec3,
+        others: impl Iterator<Item = Option<Vec2>>,
+    ) -> Option<Self> {
+        // Slopes of half vectors v = wo + wi (unnormalized): s = -(v_x, v_y) / v_z, and the
+        // slope-space image of a direction dwi at `at`: -(dwi_xy v_z - v_xy dwi_z) / v_z^2.
+        let v = wo + at;
         let near = half_vector_slope(v)?;
         let image = |d: Vec3| Vec2::new(v.x * d.z - d.x * v.z, v.y * d.z - d.y * v.z);
-        let (along, inward) = (image(edge.normal.cross(nearest)), image(edge.normal));
-        let g = Vec2::new(-along.y, along.x);
-        let g = if g.dot(inward) < 0.0 { -g } else { g };
+        let (along, inward) = (image(along), image(inward));
+        let normal = Vec2::new(-along.y, along.x);
+        let g = if normal.dot(inward) < 0.0 { -normal } else { normal };
         let len = sqrt(g.dot(g));
         if !(len > 0.0 && len.is_finite()) {
             return None;
         }
         let g = g / len;
-        let points = outline.iter().map(|d| half_vector_slope(wo + *d));
-        let (lo, hi) = slope_bounds(g, core::iter::once(Some(near)).chain(points))?;
+        let (lo, hi) = slope_bounds(g, core::iter::once(Some(near)).chain(others))?;
         Self::new(alpha, g, Vec2::new(near.dot(g), hi.x), Vec2::new(lo.y, hi.y))
     }
 
