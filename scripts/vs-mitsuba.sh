@@ -5,7 +5,7 @@
 # (independent, stratified, multijitter, ldsampler at 64 spp; orthogonal at 121), interleaved,
 # 3 rounds. Each scene is `picomis-sim export`'s Mitsuba XML, checked to converge to picomis'
 # image; its reference is Mitsuba's converged image (multijitter passes, more for Veach and
-# lambert_sphere; cached under target/vs-mitsuba/renders). Prints the tables and writes docs/vs-mitsuba.md (one table
+# lambert_sphere and stress, whose tiny sphere light it renders as a point light; cached under target/vs-mitsuba/renders). Prints the tables and writes docs/vs-mitsuba.md (one table
 # per scene and a summary). A benchmark, not a test: run it on a quiet machine (the tables record the load average).
 # The method in full: the docstring of scripts/vs-mitsuba/compare.py.
 #
