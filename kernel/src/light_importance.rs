@@ -23,9 +23,10 @@ pub struct LightCone {
     /// Sine of the cone's half-angle theta_max (below pi / 2): 0 for a point light; 2 for a cone
     /// of every direction (the point is within a quad light's bounding sphere).
     pub sin_max: f32,
-    /// Brightness ([`channel_mean`]) of the radiance times the solid angle, estimated as pi r^2 / d^2 (spheres) or
-    /// A cos / d^2 (quads), at most 2 pi; or the brightness of the intensity over the squared
-    /// distance (point lights): about the irradiance at normal incidence.
+    /// Brightness ([`channel_mean`]) of the radiance times the solid angle, estimated as
+    /// pi r^2 / d^2 (spheres) or A cos / d^2 (quads), at most 2 pi; or the brightness of the
+    /// intensity over the squared distance (point lights): about the irradiance at normal
+    /// incidence.
     pub strength: f32,
     /// Brightness of the radiance (area lights): the reflected radiance is at most this times
     /// the BSDF's albedo. `None` for point lights.

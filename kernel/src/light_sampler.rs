@@ -150,9 +150,9 @@ impl core::fmt::Display for QuadSampling {
 pub enum LightSelection {
     /// Every light equally likely.
     Uniform,
-    /// Proportional to emitted power (the mean of its channels), on the grid of the random number (see
-    /// [`GridDistribution`]): every light that emits is chosen with exactly the probability the
-    /// weights are given.
+    /// Proportional to emitted power (the mean of its channels), on the grid of the random
+    /// number (see [`GridDistribution`]): every light that emits is chosen with exactly the
+    /// probability the weights are given.
     Power,
     /// Proportional to each light's estimated contribution at the shading point, BSDF included
     /// ([`LightCone::contribution`](crate::light_importance::LightCone::contribution)), mixed
