@@ -933,6 +933,23 @@ mod tests {
         }
     }
 
+    /// Of the reflected directions of the box `b` seen from `wo`, drawn on a 64 x 64 grid of
+    /// `u`, how many `land` (on a light) and how many there are; each has a positive, finite pdf.
+    fn lobe_samples_landing(wo: Vec3, b: &SlopeBox, land: impl Fn(Vec3) -> bool) -> (usize, usize) {
+        let (mut landed, mut total) = (0, 0);
+        for i in 0..64 {
+            for j in 0..64 {
+                let u = Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
+                let Some(wi) = sample_ggx_reflection_in(wo, b, u) else { continue };
+                total += 1;
+                landed += usize::from(land(wi));
+                let pdf = ggx_reflection_in_pdf(wo, b, wi);
+                assert!(pdf > 0.0 && pdf.is_finite());
+            }
+        }
+        (landed, total)
+    }
+
     /// The lobe samples of the box facing a cone mostly reflect into the cone when the mirror
     /// direction lies just outside its edge (where the lobe alone would mostly miss it).
     #[test]
@@ -946,17 +963,7 @@ mod tests {
         let axis = (mirror * tilt.cos() + f.t * tilt.sin()).normalize();
         let alpha = 0.01;
         let b = SlopeBox::facing_cone(wo, alpha, axis, theta.cos(), theta.sin()).unwrap();
-        let (mut inside, mut total) = (0, 0);
-        for i in 0..64 {
-            for j in 0..64 {
-                let u = Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
-                let Some(wi) = sample_ggx_reflection_in(wo, &b, u) else { continue };
-                total += 1;
-                inside += usize::from(dot(wi, axis) >= theta.cos());
-                let pdf = ggx_reflection_in_pdf(wo, &b, wi);
-                assert!(pdf > 0.0 && pdf.is_finite());
-            }
-        }
+        let (inside, total) = lobe_samples_landing(wo, &b, |wi| dot(wi, axis) >= theta.cos());
         // (About three in four: the near side is the edge's tangent, which the edge leaves.)
         assert!(total > 4000 && inside * 10 > total * 6, "{inside} of {total} in the cone");
     }
@@ -998,16 +1005,7 @@ mod tests {
         for above in [-0.005f32, -0.02] {
             let (wo, b) = box_at(above);
             assert!(b.t.x > 0.0 && !b.holds_disc(0.0), "{above}: {b:?}");
-            let (mut inside, mut total) = (0, 0);
-            for i in 0..64 {
-                for j in 0..64 {
-                    let u = Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
-                    let Some(wi) = sample_ggx_reflection_in(wo, &b, u) else { continue };
-                    total += 1;
-                    inside += usize::from(in_quad(wi));
-                    assert!(ggx_reflection_in_pdf(wo, &b, wi) > 0.0);
-                }
-            }
+            let (inside, total) = lobe_samples_landing(wo, &b, in_quad);
             assert!(total > 4000 && inside * 10 > total * 9, "{above}: {inside} of {total} on the quad");
         }
         let (_, b) = box_at(0.005);
