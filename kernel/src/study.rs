@@ -5,6 +5,7 @@
 
 use crate::arith::Arith;
 use crate::error::SceneError;
+use crate::light_lobe::LobeMixing;
 use crate::light_sampler::{LightSelection, QuadSampling, SphereSampling};
 use crate::mis::{Heuristic, Method};
 use crate::model::{DEFAULT_C_LIGHT, MisModel};
@@ -41,6 +42,9 @@ pub struct Extras {
     pub quads: QuadSampling,
     /// The analytic control variate.
     pub control_variate: ControlVariate,
+    /// Light samples also from a glossy receiver's lobe (only in builds with the kernel's `lobe`
+    /// feature: elsewhere such a method's settings are an error).
+    pub lobe: LobeMixing,
     /// The arithmetic of the scene's ray queries: not a render setting but the scene's
     /// (`Extras::prepare`, feature `fixed`).
     pub arith: Arith,
@@ -56,6 +60,7 @@ impl Default for Extras {
             model: MisModel::default(),
             quads: QuadSampling::default(),
             control_variate: ControlVariate::default(),
+            lobe: LobeMixing::DEFAULT,
             arith: Arith::F32,
         }
     }
@@ -69,7 +74,8 @@ impl Extras {
             .with_light_selection(self.selection)
             .with_mis_model(self.model)?
             .with_quad_sampling(self.quads)
-            .with_control_variate(self.control_variate))
+            .with_control_variate(self.control_variate)
+            .with_lobe_mixing(self.lobe)?)
     }
 
     /// Runs `scene`'s ray queries in this arithmetic ([`Scene::enable_arith`]): the scene's
@@ -106,13 +112,13 @@ impl StudyMethod {
 
 /// The methods of the study, in the lecture's order, with the default sample stream and uniform
 /// light selection; then the power heuristic with independent random numbers (what the
-/// stratified stream gains) and with lights chosen by power and by contribution, and what goes
-/// beyond the lecture, each against balance; last, the power heuristic with the scene's ray
+/// stratified stream gains), with lights chosen by power and by contribution, and with lobe
+/// mixing, and what goes beyond the lecture, each against balance; last, the power heuristic with the scene's ray
 /// queries in fixed point (against f32 power, same seeds). The heuristics sample sphere lights
 /// by cone. (The
 /// Veach region study renders each light alone, which leaves the selection probabilities
 /// unchanged only under uniform selection: it leaves out the methods that choose otherwise.)
-pub fn study_methods() -> [StudyMethod; 16] {
+pub fn study_methods() -> [StudyMethod; 17] {
     let mis = Method::Mis;
     let (cone, area) = (SphereSampling::Cone, SphereSampling::Area);
     let study = |label, title, method, spheres| StudyMethod {
@@ -152,6 +158,12 @@ pub fn study_methods() -> [StudyMethod; 16] {
             extras: Extras { selection: LightSelection::Contribution, ..Extras::default() },
             ..study("power_by_contribution", "power, lights by contribution", power, cone)
         },
+        // Light samples also from a near-mirror's lobe where it meets a light (uniform
+        // selection, so that the Veach region study keeps it).
+        StudyMethod {
+            extras: Extras { lobe: LobeMixing::On, ..Extras::default() },
+            ..study("power_lobe", "power, lobe mixing", power, cone)
+        },
         // Beyond the lecture, each against balance.
         StudyMethod {
             extras: Extras { model: MisModel::One { c_light: DEFAULT_C_LIGHT }, ..Extras::default() },
@@ -185,7 +197,9 @@ mod tests {
     fn study_methods_are_valid_distinct_and_titled_with_the_defaults() {
         let all = study_methods();
         for (i, m) in all.iter().enumerate() {
-            assert!(m.settings(1, 1, 1, 0).is_ok(), "{}", m.label);
+            // Lobe mixing needs the `lobe` feature; without it its settings are an error.
+            let available = LobeMixing::AVAILABLE || m.extras.lobe == LobeMixing::Off;
+            assert_eq!(m.settings(1, 1, 1, 0).is_ok(), available, "{}", m.label);
             assert!(all[..i].iter().all(|o| o.label != m.label && o != m), "{} twice", m.label);
         }
         // Each of the kernel's methods, and both sphere samplings, is in the list.

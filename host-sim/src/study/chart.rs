@@ -62,7 +62,7 @@ pub struct Chart {
 }
 
 /// Okabe-Ito colours (distinguishable with colour-blindness), one per study method.
-pub const COLORS: [RGBColor; 14] = [
+pub const COLORS: [RGBColor; 15] = [
     RGBColor(213, 94, 0),    // bsdf: vermillion
     RGBColor(86, 180, 233),  // light (area): sky blue
     RGBColor(0, 114, 178),   // light (cone): blue
@@ -74,6 +74,7 @@ pub const COLORS: [RGBColor; 14] = [
     RGBColor(136, 34, 85),   // power, independent: wine
     RGBColor(153, 153, 51),  // power, lights by power: olive
     RGBColor(221, 51, 51),   // power, lights by contribution: red
+    RGBColor(0, 68, 136),    // power, lobe mixing: dark blue
     RGBColor(51, 34, 136),   // one-sample: indigo
     RGBColor(68, 170, 153),  // quads by solid angle: teal
     RGBColor(170, 68, 153),  // control variate: purple
