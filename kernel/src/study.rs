@@ -69,13 +69,13 @@ impl Default for Extras {
 impl Extras {
     /// `settings` with these options.
     pub fn apply(&self, settings: RenderSettings) -> Result<RenderSettings, SceneError> {
-        Ok(settings
+        settings
             .with_sampler(self.sampler)
             .with_light_selection(self.selection)
             .with_mis_model(self.model)?
             .with_quad_sampling(self.quads)
             .with_control_variate(self.control_variate)
-            .with_lobe_mixing(self.lobe)?)
+            .with_lobe_mixing(self.lobe)
     }
 
     /// Runs `scene`'s ray queries in this arithmetic ([`Scene::enable_arith`]): the scene's
