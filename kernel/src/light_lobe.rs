@@ -143,9 +143,9 @@ impl Lobe {
         }
         let frame = Frame::from_normal(n);
         let wo = frame.to_local(wo);
-        let axis = frame.to_local(to_c / sqrt(d2));
         let slopes = match (shape.as_sphere(), shape.corners()) {
             (Some(_), _) => {
+                let axis = frame.to_local(to_c / sqrt(d2));
                 SlopeBox::facing_cone(wo, alpha, axis, 1.0 - cone_one_minus_cos(r2 / d2), sin_max)
             }
             (None, Some(c)) => {
