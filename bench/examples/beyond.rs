@@ -32,7 +32,7 @@
 
 use std::path::PathBuf;
 
-use picomis::math::Frame;
+use picomis::num::Frame;
 use picomis::{
     Estimate, Film, Heuristic, Hit, LightSampler, Method, QuadSampling, Ray, RenderSettings, Rgb, Sampler,
     SamplerKind, Scene, ShadingPoint, Technique, Vec2, Vec3, camera_sample,
@@ -339,7 +339,7 @@ fn weighted(f: &Found, heuristic: Heuristic, c_light: f32) -> Rgb {
 
 /// The unweighted estimates of each technique alone (area lights only): f L / p_l and f L / p_b.
 fn unweighted(f: &Found) -> (f64, f64) {
-    let lum = |c: Rgb| f64::from(picomis::math::luminance(c));
+    let lum = |c: Rgb| f64::from(picomis::num::luminance(c));
     (f.light.map_or(0.0, |(v, p, _)| lum(v) / f64::from(p)), f.bsdf.map_or(0.0, |(v, ..)| lum(v)))
 }
 

@@ -20,7 +20,7 @@ pub const MEASUREMENT: Duration = Duration::from_millis(900);
 
 /// The methods of the study (`picomis-sim study`), from the kernel's one list of them: the
 /// benchmarks time exactly the list the study charts.
-pub use picomis::study::{StudyMethod, study_methods as methods};
+pub use picomis_host::study::{StudyMethod, study_methods as methods};
 
 /// Settings of one camera sample of `m`: one light and one BSDF sample (as the built-in scenes'
 /// integrator blocks ask), 1 spp.

@@ -6,7 +6,7 @@
 
 use core::hint::black_box;
 
-use picomis::shape::{Ray, Shape};
+use picomis::{Ray, Shape};
 use picomis::{Vec2, Vec3};
 
 use crate::board::scene::SceneT;

@@ -290,7 +290,7 @@ pub struct Digests {
     pub lmul: u32,
     /// The quotients of the [`DIV_PAIRS`] division pairs ([`div_operands`]).
     pub div: u32,
-    /// The dot products of the [`DOTS`] vector pairs ([`dot_operands`]), `picomis::math::dot`.
+    /// The dot products of the [`DOTS`] vector pairs ([`dot_operands`]), `picomis::num::dot`.
     pub dot: u32,
 }
 
@@ -337,7 +337,7 @@ pub fn digests(mut each_quotient: impl FnMut(u32, u32, u32, u32)) -> Digests {
     for i in 0..DOTS {
         let (a, b) = dot_operands(i);
         let (a, b) = (core::hint::black_box(a), core::hint::black_box(b));
-        d.dot = Digests::fold(d.dot, canonical(picomis::math::dot(a, b).to_bits()));
+        d.dot = Digests::fold(d.dot, canonical(picomis::num::dot(a, b).to_bits()));
     }
     for i in 0..DIV_PAIRS {
         let (a, b) = div_operands(i);
@@ -352,7 +352,7 @@ pub fn digests(mut each_quotient: impl FnMut(u32, u32, u32, u32)) -> Digests {
 /// Vector pairs checked by the dot product.
 pub const DOTS: u32 = 1 << 18;
 
-/// Vector pair number `i` for the dot product (`picomis::math::dot`, the kernel's; on RV32IMC a
+/// Vector pair number `i` for the dot product (`picomis::num::dot`, the kernel's; on RV32IMC a
 /// hand-written routine that keeps the products and the partial sum unpacked):
 /// - three of the operand pairs above (hard cases of products: special values, subnormal and
 ///   overflowing products, exact ties);
@@ -502,7 +502,7 @@ pub fn run() -> u32 {
         let (a, b) = dot_operands(i);
         let (a, b) = (core::hint::black_box(a), core::hint::black_box(b));
         // glam's dot product: the library's multiply and add, one call each.
-        let (ours, lib) = (picomis::math::dot(a, b).to_bits(), a.dot(b).to_bits());
+        let (ours, lib) = (picomis::num::dot(a, b).to_bits(), a.dot(b).to_bits());
         if ours != lib {
             if mismatches < 8 {
                 // The operands are `dot_operands(i)`, on the host too.

@@ -119,7 +119,7 @@ fn default_mis_model() -> String {
 }
 
 fn default_c_light() -> f32 {
-    picomis::model::DEFAULT_C_LIGHT
+    picomis::integrator::model::DEFAULT_C_LIGHT
 }
 
 #[derive(Deserialize)]

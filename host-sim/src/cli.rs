@@ -175,7 +175,7 @@ pub struct ExtrasArgs {
     #[arg(long, value_enum, default_value_t = MisModelArg::Multi)]
     pub mis_model: MisModelArg,
     /// Probability of the light technique in the one-sample model, in [0, 1].
-    #[arg(long, value_name = "C", default_value_t = picomis::model::DEFAULT_C_LIGHT, allow_negative_numbers = true)]
+    #[arg(long, value_name = "C", default_value_t = picomis::integrator::model::DEFAULT_C_LIGHT, allow_negative_numbers = true)]
     pub c_light: f32,
     /// How quad lights are sampled.
     #[arg(long, value_name = "Q", value_parser = quad_sampling_parser(), default_value_t = QuadSampling::default())]
@@ -187,21 +187,21 @@ pub struct ExtrasArgs {
 
 impl ExtrasArgs {
     /// The study's form of these options (validated: `c_light` in [0, 1]).
-    pub fn extras(&self) -> Result<picomis::study::Extras, SimError> {
+    pub fn extras(&self) -> Result<picomis_host::study::Extras, SimError> {
         let name = match self.mis_model {
             MisModelArg::Multi => "multi",
             MisModelArg::One => "one",
         };
         let model = parse_mis_model(name, self.c_light)
             .map_err(|e| SimError::Usage(format!("--mis-model {name} --c-light {}: {e}", self.c_light)))?;
-        Ok(picomis::study::Extras {
+        Ok(picomis_host::study::Extras {
             model,
             quads: self.quad_sampling,
             control_variate: match self.control_variate {
                 OnOff::On => ControlVariate::On,
                 OnOff::Off => ControlVariate::Off,
             },
-            ..picomis::study::Extras::default()
+            ..picomis_host::study::Extras::default()
         })
     }
 }
@@ -367,7 +367,7 @@ pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, Si
     let scene_model = loaded.file.default_model();
     let scene_c = match scene_model {
         MisModel::One { c_light } => c_light,
-        MisModel::Multi => picomis::model::DEFAULT_C_LIGHT,
+        MisModel::Multi => picomis::integrator::model::DEFAULT_C_LIGHT,
     };
     let model_name = match (args.mis_model, scene_model) {
         (Some(MisModelArg::One), _) | (None, MisModel::One { .. }) => "one",

@@ -45,15 +45,15 @@ const LABEL_SIZE: f32 = 18.0;
 const MIN_PANEL_WIDTH: u32 = 300;
 
 /// Weight-image colour of pixels where no sample of the technique found light
-/// ([`picomis::NO_LIGHT`]).
+/// ([`picomis_host::NO_LIGHT`]).
 pub fn no_light() -> [u8; 3] {
-    let c = picomis::NO_LIGHT;
+    let c = picomis_host::NO_LIGHT;
     [c.r(), c.g(), c.b()]
 }
 
-/// False colour of a weight in [0, 1] ([`picomis::weight_color`]: viridis).
+/// False colour of a weight in [0, 1] ([`picomis_host::weight_color`]: viridis).
 pub fn weight_color(w: f32) -> [u8; 3] {
-    let c = picomis::weight_color(w);
+    let c = picomis_host::weight_color(w);
     [c.r(), c.g(), c.b()]
 }
 
@@ -90,7 +90,7 @@ pub fn figure_settings(
     loaded: &Loaded,
     spp: u32,
     seed: u32,
-    extras: &picomis::study::Extras,
+    extras: &picomis_host::study::Extras,
 ) -> Result<Vec<RenderSettings>, SimError> {
     let (n_light, n_bsdf) = loaded.file.default_samples();
     methods()?
@@ -108,7 +108,7 @@ pub fn render_figure(
     loaded: &Loaded,
     spp: u32,
     seed: u32,
-    extras: &picomis::study::Extras,
+    extras: &picomis_host::study::Extras,
 ) -> Result<(Canvas, Batch), SimError> {
     let settings = figure_settings(loaded, spp, seed, extras)?;
     let film = loaded.file.film();
@@ -131,7 +131,7 @@ pub fn render_figure(
             )
         },
     ];
-    if *extras != picomis::study::Extras::default() {
+    if *extras != picomis_host::study::Extras::default() {
         caption.push(format!(
             "Every render: MIS model {:?}, quads sampled by {:?}, control variate {:?}.",
             extras.model, extras.quads, extras.control_variate

@@ -20,7 +20,7 @@
 //! its pixel-edge noise would otherwise add the same floor to every method. `--include-emitted`
 //! measures the full radiance instead.
 //!
-//! The methods are the kernel's list ([`picomis::study::study_methods`]). The modules, none of
+//! The methods are the kernel's list ([`picomis_host::study::study_methods`]). The modules, none of
 //! which reads this one (each reads only modules further down the list):
 //! - `report` (charts with `chart`, the equal-time grid with `grid`, CSV, summary) and
 //!   `region_report` (the region table and heat maps; it reads `report`'s writers) write the
@@ -51,7 +51,7 @@ use crate::scenes::{self, BUILTINS, Loaded};
 
 pub use args::{StudyArgs, ladder, study_film};
 pub use measure::timed;
-pub use picomis::study::{Extras, StudyMethod, study_methods};
+pub use picomis_host::study::{Extras, StudyMethod, study_methods};
 pub use report::load_average;
 pub use results::{EqualTime, Record, SceneStudy, balance_index, cost_per_spp, index_of};
 

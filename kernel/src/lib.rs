@@ -42,66 +42,36 @@
 // `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-pub mod accel;
-pub mod analytic;
-pub mod arith;
-pub mod camera;
-pub mod camera_cull;
-pub mod colormap;
-pub mod digest;
-mod dot3;
 pub mod error;
-pub mod estimator;
-#[cfg(feature = "fixed")]
-mod fixed;
-pub mod ids;
-#[cfg(all(target_arch = "arm", target_os = "none", target_abi = "eabi"))]
-mod int_m0;
+pub mod geometry;
+pub mod integrator;
 pub mod light;
-pub mod light_importance;
-pub mod light_lobe;
-pub mod light_sampler;
-pub mod material;
-pub mod math;
-pub mod mis;
-pub mod model;
-pub mod render;
-pub mod rng;
+pub mod num;
+pub mod output;
+pub mod query;
 pub mod sampling;
 pub mod scene;
-pub mod settings;
-pub mod shadow_cull;
-pub mod shape;
-pub mod sqrt;
-pub mod study;
-pub mod tonemap;
-mod trig;
-mod wide;
 
-pub use arith::Arith;
-pub use camera::{Camera, CameraDesc, Film, FovAxis};
-pub use colormap::{NO_LIGHT, weight_color};
-pub use digest::{Digest, render_digest};
 #[cfg(feature = "fixed")]
 pub use error::Unrepresentable;
 pub use error::{Collection, Field, SceneError};
-pub use estimator::{
-    Estimate, MAX_CONTRIBUTION, Shading, TechniqueEstimate, estimate_direct, estimate_direct_multi_sample,
-    estimate_direct_one_sample, shade, trace,
+pub use geometry::{Camera, CameraDesc, Film, FovAxis, Ray, Shape, SurfacePoint};
+pub use integrator::{
+    ControlVariate, Estimate, Heuristic, MAX_CONTRIBUTION, Method, MisModel, ParseMethodError,
+    RenderSettings, Shading, Technique, TechniqueEstimate, UnknownMethod, estimate_direct,
+    estimate_direct_multi_sample, estimate_direct_one_sample, shade, trace,
 };
-pub use ids::{LightId, MaterialId, ShapeId};
-pub use light::{Emission, Light, MAX_EMISSION};
-pub use light_lobe::LobeMixing;
-pub use light_sampler::{
+pub use light::lobe::LobeMixing;
+pub use light::{
     LightChoice, LightSample, LightSampler, LightSelection, QuadSampling, ShadingPoint, SphereSampling,
 };
-pub use material::{BsdfSample, Material};
-pub use math::{Rgb, Vec2, Vec3};
-pub use mis::{Heuristic, Method, ParseMethodError, Technique, UnknownMethod};
-pub use model::MisModel;
-pub use render::{RenderStats, camera_sample, film_rect, render, render_pixel, render_tile, tiles};
-pub use rng::{Sampler, SamplerKind};
-pub use scene::{Hit, Object, Scene};
-pub use settings::{ControlVariate, RenderSettings};
-pub use shape::{Ray, Shape, SurfacePoint};
-pub use tonemap::tone_map;
+pub use num::{Rgb, Vec2, Vec3};
+pub use output::{
+    Digest, RenderStats, camera_sample, film_rect, render, render_digest, render_pixel, render_tile, tiles,
+    tone_map,
+};
+pub use query::Arith;
+pub use sampling::{Sampler, SamplerKind};
+pub use scene::{
+    BsdfSample, Emission, Hit, Light, LightId, MAX_EMISSION, Material, MaterialId, Object, Scene, ShapeId,
+};

@@ -10,7 +10,7 @@
 //! 3. Camera rays through `trace` (what the images are made of): with and without the control
 //!    variate the pixels converge to the same values.
 
-use picomis::analytic::{quad_projected_solid_angle, sphere_projected_solid_angle};
+use picomis::integrator::{quad_projected_solid_angle, sphere_projected_solid_angle};
 use picomis::{
     ControlVariate, Film, Heuristic, Hit, Material, Method, MisModel, QuadSampling, Ray, RenderSettings, Rgb,
     Scene, Shape, Vec3,

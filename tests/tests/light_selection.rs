@@ -14,7 +14,7 @@
 //! Scene: sphere lights straddling the horizon, tiny and big; a quad light seen from both sides;
 //! a bright and a dark point light.
 
-use picomis::math::Frame;
+use picomis::num::Frame;
 use picomis::sampling::sample_uniform_sphere;
 use picomis::{
     Film, Heuristic, LightId, LightSampler, LightSelection, Material, Method, Rgb, Sampler, Scene,

@@ -42,7 +42,7 @@ use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{OriginDimensions, Size};
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use embedded_graphics_core::primitives::{PointsIter, Rectangle};
-use picomis::math::Frame;
+use picomis::num::Frame;
 use picomis::sampling::{sample_cosine_hemisphere, sample_uniform_sphere};
 use picomis::{
     CameraDesc, Estimate, Film, FovAxis, Heuristic, Light, LightId, LightSampler, LightSelection, LobeMixing,
@@ -544,7 +544,7 @@ fn check_sample_pdf(
     // re-evaluated from the point, to the rounding of the direction through the GGX lobe (at
     // most 1/alpha per unit of angle), plus the light's own part's rounding.
     let by_lobe = settings.lobe_mixing() == LobeMixing::On
-        && picomis::light_lobe::Lobe::towards(shape, p, at.n, at.wo, &at.bsdf).is_some();
+        && picomis::light::lobe::Lobe::towards(shape, p, at.n, at.wo, &at.bsdf).is_some();
     let by_cone = spheres == SphereSampling::Cone && shape.as_sphere().is_some_and(outside) && !by_lobe;
     let cos_y = y.n.dot(-ls.wi);
     // Rounding of the re-constructed point (~1e-7 of the coordinates) moves the pdf

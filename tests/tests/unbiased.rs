@@ -408,7 +408,7 @@ fn quadrature_reference(scene: &SphereScene, c: Vec3, r: f32, wo: Vec3) -> [f64;
 /// L_r of `material` at the origin (normal +y) towards `wo` from a sphere light of radiance `l`
 /// (centre `c`, radius `r`), by the quadrature of [`quadrature_reference`].
 fn cone_quadrature(material: &Material, c: Vec3, r: f32, l: Rgb, wo: Vec3) -> [f64; 3] {
-    let frame = picomis::math::Frame::from_normal(Vec3::Y);
+    let frame = picomis::num::Frame::from_normal(Vec3::Y);
     let wo_local = frame.to_local(wo);
     let axis = d3(c);
     let cap = Cap::new(axis, (f64::from(r) / axis.length()).asin());

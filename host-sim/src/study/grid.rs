@@ -3,8 +3,8 @@
 //! the reference.
 
 use embedded_graphics_core::pixelcolor::RgbColor;
-use picomis::study::study_methods;
 use picomis::{Rgb, tone_map};
+use picomis_host::study::study_methods;
 
 use super::results::SceneStudy;
 use crate::text::{Canvas, draw_text};

@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use indicatif::ProgressBar;
-use picomis::study::{StudyMethod, study_methods};
 use picomis::{Arith, Estimate, Rgb, Scene};
+use picomis_host::study::{StudyMethod, study_methods};
 
 use super::args::{EQUAL_TIME_SEED, StudyArgs};
 use super::measure::{measured, settings, timed};

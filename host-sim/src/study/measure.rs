@@ -5,8 +5,8 @@
 use std::time::Instant;
 
 use indicatif::ProgressBar;
-use picomis::study::StudyMethod;
 use picomis::{Estimate, RenderSettings, Rgb, Scene};
+use picomis_host::study::StudyMethod;
 
 use crate::SimError;
 use crate::render::render_estimates;

@@ -7,8 +7,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use embedded_graphics_core::pixelcolor::RgbColor;
-use picomis::study::study_methods;
 use picomis::{Method, SphereSampling, tone_map};
+use picomis_host::study::study_methods;
 
 use super::report::{ratio, write, write_png};
 use super::results::{SceneStudy, balance_index, cost_per_spp, index_of, mean, top_rung};

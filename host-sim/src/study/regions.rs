@@ -13,10 +13,10 @@
 //! the isolation, rare hits of the small bright lights by BSDF samples would swamp every region.
 //! Methods that choose lights otherwise than uniformly are left out (no region errors).
 
-use picomis::study::StudyMethod;
 use picomis::{
     Light, LightSelection, Material, MaterialId, Ray, Rgb, Scene, SceneError, ShapeId, Vec2, Vec3,
 };
+use picomis_host::study::StudyMethod;
 use rayon::prelude::*;
 
 use super::measure::{reflected, settings};
@@ -29,7 +29,7 @@ use crate::scenes::Loaded;
 /// Relative MSE of one region in a render of its light alone.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RegionRecord {
-    /// Index in [`picomis::study::study_methods`].
+    /// Index in [`picomis_host::study::study_methods`].
     pub method: usize,
     /// Seed.
     pub seed: u32,

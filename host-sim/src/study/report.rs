@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use picomis::study::study_methods;
+use picomis_host::study::study_methods;
 
 use super::args::StudyArgs;
 use super::chart::{self, COLORS, Chart, Point, Series};

@@ -2,8 +2,8 @@
 //! [`EqualTime`] renders, the reference and the regions), and the questions the reports ask of
 //! it: which method is which, the rungs, means over seeds, the cost per sample.
 
-use picomis::study::{Extras, study_methods};
 use picomis::{Arith, Heuristic, Method, Rgb, SphereSampling};
+use picomis_host::study::{Extras, study_methods};
 
 use super::metrics::ErrorStats;
 use super::reference::Reference;

@@ -6,10 +6,9 @@
 //! [`Estimate`] and scales the sum by `1.0 / N as f32`; [`Progressive::mean`] does the same
 //! operations in the same order on the running sum, which gives the same bits.
 
-use picomis::{
-    Estimate, NO_LIGHT, RenderSettings, Rgb, Scene, TechniqueEstimate, camera_sample, tone_map, weight_color,
-};
+use picomis::{Estimate, RenderSettings, Rgb, Scene, TechniqueEstimate, camera_sample, tone_map};
 use picomis_format::SceneFile;
+use picomis_host::{NO_LIGHT, weight_color};
 
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 

@@ -1,0 +1,12 @@
+//! # picomis-host
+//!
+//! What every host program of picomis shares (the simulator, the browser page, the benchmarks
+//! and the test suites), and what a microcontroller never needs:
+//! - [`study`]: the methods of the speed-against-accuracy study, the one list of them;
+//! - [`colormap`]: the colour map of the MIS weight images.
+#![deny(missing_docs)]
+
+pub mod colormap;
+pub mod study;
+
+pub use colormap::{NO_LIGHT, weight_color};
