@@ -3,7 +3,11 @@
 
 use std::fmt::Write;
 
-use picomis::{FovAxis, Material, Method, Vec3};
+use picomis::integrator::type_paths;
+use picomis::{
+    ControlVariate, FovAxis, LightSelection, LobeMixing, Material, Method, QuadSampling, RenderSettings,
+    SphereSampling, Vec3,
+};
 
 use crate::{Geometry, SceneFile, Step};
 
@@ -20,6 +24,88 @@ fn method(m: Method) -> String {
     let opt = |v: Option<f32>| v.map_or("None".to_string(), |v| format!("Some({})", f(v)));
     let index = Method::ALL.iter().position(|x| x.name() == m.name()).unwrap_or(0);
     format!("Method::ALL[{index}] /* {m} */.with_parameters({}, {})", opt(m.beta()), opt(m.alpha()))
+}
+
+/// The settings of the file's integrator block with the strategies a scene's content makes
+/// equivalent replaced by the smallest (the same bits): no quad lights, quads by area; no
+/// sphere lights, spheres by area; one light, no selection by contribution; lobe mixing only with
+/// a GGX receiver and an area light; the control variate only with a Lambertian receiver and an
+/// area light.
+pub fn firmware_settings(s: &SceneFile) -> RenderSettings {
+    let settings = s.default_settings();
+    let (lights, materials) = (s.light_kinds(), s.material_kinds());
+    let area_lights = lights.spheres || lights.quads;
+    let selection = match settings.light_selection() {
+        LightSelection::Contribution if s.counts().lights <= 1 => LightSelection::Uniform,
+        other => other,
+    };
+    let quads = if lights.quads { settings.quad_sampling() } else { QuadSampling::Area };
+    let spheres = if lights.spheres { settings.sphere_sampling() } else { SphereSampling::Area };
+    let lobe = if materials.ggx && area_lights { settings.lobe_mixing() } else { LobeMixing::Off };
+    let cv = if materials.lambertian && area_lights { settings.control_variate() } else { ControlVariate::Off };
+    let s = settings
+        .with_light_selection(selection)
+        .with_quad_sampling(quads)
+        .with_sphere_sampling(spheres)
+        .with_lobe_mixing(lobe);
+    s.with_control_variate(cv).unwrap_or(s)
+}
+
+/// The firmware's settings (`settings()`, a `const fn`: the render sees every setting as a
+/// constant) and strategies (`Strategies`, the types [`firmware_settings`] names, with the
+/// method as a constant, `SceneMethod`).
+fn strategies(o: &mut String, s: &SceneFile) {
+    let settings = firmware_settings(s);
+    let m = settings.method();
+    let (n_light, n_bsdf) = settings.sample_counts();
+    let lights = s.counts().lights;
+    let path = |p: &str| p.replace("<L>", &format!("<{lights}>"));
+    let _ = writeln!(o, "/// The method of the file, as a constant.");
+    let _ = writeln!(o, "pub struct SceneMethod;");
+    let _ = writeln!(o, "impl picomis::integrator::ConstMethod for SceneMethod {{");
+    let _ = writeln!(
+        o,
+        "    const METHOD: Method = match {} {{ Ok(m) => m, Err(_) => panic!(\"invalid method\") }};",
+        method(m)
+    );
+    let _ = writeln!(o, "}}");
+    let _ = writeln!(o, "/// The strategies of the file's integrator block that this scene uses.");
+    let _ = writeln!(
+        o,
+        "pub type Strategies = picomis::Direct<picomis::Lights<{}, {}, {}, {}>, {}, {}, SceneMethod>;",
+        path(type_paths::selection(settings.light_selection())),
+        path(type_paths::spheres(settings.sphere_sampling())),
+        path(type_paths::quads(settings.quad_sampling())),
+        path(type_paths::lobe(settings.lobe_mixing())),
+        path(type_paths::control_variate(settings.control_variate())),
+        path(type_paths::model(settings.mis_model())),
+    );
+    let _ = writeln!(o, "/// The integrator of the file (1 spp, seed 0), with the strategies of `Strategies`.");
+    let _ = writeln!(o, "pub const fn settings() -> Result<picomis::RenderSettings, picomis::SceneError> {{");
+    let _ = writeln!(
+        o,
+        "    macro_rules! ok {{ ($e:expr) => {{ match $e {{ Ok(v) => v, Err(e) => return Err(e) }} }}; }}"
+    );
+    let _ = writeln!(
+        o,
+        "    let s = ok!(picomis::RenderSettings::new(<SceneMethod as picomis::integrator::ConstMethod>::METHOD, {n_light}, {n_bsdf}, 1, 0));"
+    );
+    let _ = writeln!(
+        o,
+        "    let s = s.with_sampler(picomis::SamplerKind::{:?}).with_light_selection(picomis::LightSelection::{:?}).with_sphere_sampling(picomis::SphereSampling::{:?}).with_quad_sampling(picomis::QuadSampling::{:?}).with_lobe_mixing(picomis::LobeMixing::{:?});",
+        settings.sampler(),
+        settings.light_selection(),
+        settings.sphere_sampling(),
+        settings.quad_sampling(),
+        settings.lobe_mixing()
+    );
+    let model = match settings.mis_model() {
+        picomis::MisModel::One { c_light } => format!("picomis::MisModel::One {{ c_light: {} }}", f(c_light)),
+        picomis::MisModel::Multi => "picomis::MisModel::Multi".into(),
+    };
+    let _ = writeln!(o, "    let s = ok!(s.with_mis_model({model}));");
+    let _ = writeln!(o, "    s.with_control_variate(picomis::ControlVariate::{:?})", settings.control_variate());
+    let _ = writeln!(o, "}}");
 }
 
 pub(crate) fn module(s: &SceneFile) -> String {
@@ -106,35 +192,6 @@ pub(crate) fn module(s: &SceneFile) -> String {
         }
     }
     let _ = writeln!(o, "    Ok(())\n}}");
-    // A `const fn`: the firmware evaluates it at compile time, so its render sees every setting
-    // as a constant. (`?` and closures are not allowed there: each fallible step is a `match`.)
-    let _ = writeln!(o, "/// The integrator defaults of the file (1 spp, seed 0).");
-    let _ = writeln!(o, "pub const fn settings() -> Result<picomis::RenderSettings, picomis::SceneError> {{");
-    let _ = writeln!(
-        o,
-        "    macro_rules! ok {{ ($e:expr) => {{ match $e {{ Ok(v) => v, Err(e) => return Err(e) }} }}; }}"
-    );
-    let _ = writeln!(o, "    let method = ok!({});", method(s.method));
-    let _ = writeln!(
-        o,
-        "    let s = ok!(picomis::RenderSettings::new(method, {}, {}, 1, 0)).with_sampler(picomis::SamplerKind::{:?});",
-        s.light_samples, s.bsdf_samples, s.sampler
-    );
-    if s.quads != picomis::QuadSampling::default() {
-        let _ = writeln!(o, "    let s = s.with_quad_sampling(picomis::QuadSampling::{:?});", s.quads);
-    }
-    if s.selection != picomis::LightSelection::default() {
-        let _ =
-            writeln!(o, "    let s = s.with_light_selection(picomis::LightSelection::{:?});", s.selection);
-    }
-    match s.model {
-        picomis::MisModel::One { c_light } => {
-            let _ = writeln!(o, "    s.with_mis_model(picomis::MisModel::One {{ c_light: {} }})", f(c_light));
-        }
-        picomis::MisModel::Multi => {
-            let _ = writeln!(o, "    Ok(s)");
-        }
-    }
-    let _ = writeln!(o, "}}");
+    strategies(&mut o, s);
     o
 }

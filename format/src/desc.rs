@@ -21,7 +21,7 @@ struct FileDesc {
     source: String,
     film: FilmDesc,
     camera: CameraFile,
-    integrator: IntegratorDesc,
+    integrator: crate::IntegratorDesc,
     materials: BTreeMap<String, serde_json::Value>,
     shapes: Vec<serde_json::Value>,
     #[serde(default)]
@@ -71,55 +71,6 @@ struct CameraFile {
     fov_axis: AxisDesc,
     #[serde(default)]
     near_clip: f32,
-}
-
-#[derive(Deserialize)]
-#[serde(rename_all = "snake_case")]
-enum IntegratorType {
-    Direct,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct IntegratorDesc {
-    #[serde(rename = "type")]
-    #[allow(dead_code)]
-    kind: IntegratorType,
-    emitter_samples: u16,
-    bsdf_samples: u16,
-    #[serde(default)]
-    hide_emitters: bool,
-    mis: String,
-    /// The power heuristic's exponent (default: the kernel's).
-    #[serde(default)]
-    beta: Option<f32>,
-    /// The cutoff heuristic's threshold (default: the kernel's).
-    #[serde(default)]
-    alpha: Option<f32>,
-    /// Sample stream (`SamplerKind::name`); the kernel's default when absent.
-    #[serde(default)]
-    sampler: Option<String>,
-    /// How quad lights are sampled (`QuadSampling::name`); the kernel's default when absent.
-    #[serde(default)]
-    quad_sampling: Option<String>,
-    /// How a light is chosen among several (`LightSelection::name`); the kernel's default when
-    /// absent.
-    #[serde(default)]
-    light_selection: Option<String>,
-    /// `multi` (default) or `one`: the MIS sampling model.
-    #[serde(default = "default_mis_model")]
-    mis_model: String,
-    /// Probability of the light technique in the one-sample model.
-    #[serde(default = "default_c_light")]
-    c_light: f32,
-}
-
-fn default_mis_model() -> String {
-    "multi".into()
-}
-
-fn default_c_light() -> f32 {
-    picomis::integrator::model::DEFAULT_C_LIGHT
 }
 
 #[derive(Deserialize)]
@@ -238,21 +189,6 @@ fn entry_name(kind: &str, i: usize, name: Option<&str>) -> String {
     }
 }
 
-/// The option of `all` called `name` (by `name_of`), the kernel's default when absent; else why
-/// not, naming every option.
-fn named<T: Copy + Default>(
-    name: Option<&str>,
-    what: &str,
-    all: &[T],
-    name_of: fn(&T) -> &'static str,
-) -> Result<T, String> {
-    let Some(name) = name else { return Ok(T::default()) };
-    all.iter().find(|o| name_of(o) == name).copied().ok_or_else(|| {
-        let names: Vec<&str> = all.iter().map(name_of).collect();
-        format!("unknown {what} {name:?} (expected {})", names.join(", "))
-    })
-}
-
 fn unknown_type(found: Option<&str>, expected: &str) -> String {
     match found {
         Some(t) => format!("unknown variant `{t}`, expected one of {expected}"),
@@ -290,27 +226,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
     };
     check_camera(camera, film).map_err(|e| kernel("camera", e))?;
 
-    let ig = &desc.integrator;
-    if ig.hide_emitters {
-        return Err(fail("integrator.hide_emitters", "hiding emitters is not supported (use false)".into()));
-    }
-    let method = picomis::Method::from_name(&ig.mis)
-        .map_err(|e| e.to_string())
-        .and_then(|m| m.with_parameters(ig.beta, ig.alpha).map_err(|e| e.to_string()))
-        .map_err(|r| fail("integrator.mis", r))?;
-    let model =
-        crate::parse_mis_model(&ig.mis_model, ig.c_light).map_err(|r| fail("integrator.mis_model", r))?;
-    picomis::RenderSettings::new(method, ig.emitter_samples, ig.bsdf_samples, 1, 0)
-        .and_then(|s| s.with_mis_model(model))
-        .map_err(|e| kernel("integrator", e))?;
-    let sampler = named(ig.sampler.as_deref(), "sampler", &picomis::SamplerKind::ALL, |k| k.name())
-        .map_err(|r| fail("integrator.sampler", r))?;
-    let quads =
-        named(ig.quad_sampling.as_deref(), "quad sampling", &picomis::QuadSampling::ALL, |q| q.name())
-            .map_err(|r| fail("integrator.quad_sampling", r))?;
-    let selection =
-        named(ig.light_selection.as_deref(), "light selection", &picomis::LightSelection::ALL, |l| l.name())
-            .map_err(|r| fail("integrator.light_selection", r))?;
+    desc.integrator.settings(1, 0).map_err(|e| fail(&format!("integrator.{}", e.key), e.reason))?;
 
     let mut steps = Vec::new();
     let mut material_index = BTreeMap::new();
@@ -394,13 +310,7 @@ pub(crate) fn lower(text: &str, file: &str) -> Result<SceneFile, LoadError> {
         description: desc.description,
         film,
         camera,
-        method,
-        model,
-        sampler,
-        quads,
-        selection,
-        light_samples: ig.emitter_samples,
-        bsdf_samples: ig.bsdf_samples,
+        integrator: desc.integrator,
         steps,
         counts,
     })

@@ -13,17 +13,19 @@
 mod catalog;
 mod codegen;
 mod desc;
+mod integrator;
 pub mod mitsuba;
 
 use std::fmt;
 use std::path::Path;
 
 pub use catalog::builtins_rust;
+pub use codegen::firmware_settings;
+#[cfg(feature = "cli")]
+pub use integrator::choice_parser;
+pub use integrator::{IntegratorDesc, IntegratorType, KeyError};
 
-use picomis::{
-    Camera, CameraDesc, Collection, Film, LightSelection, Material, Method, MisModel, QuadSampling,
-    RenderSettings, Rgb, SamplerKind, Scene, SceneError, Shape, Vec3,
-};
+use picomis::{Camera, CameraDesc, Collection, Film, Material, RenderSettings, Rgb, Scene, SceneError, Shape, Vec3};
 
 /// Why a scene file could not be loaded: which file, which entry, and why.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -87,13 +89,7 @@ pub struct SceneFile {
     description: String,
     film: Film,
     camera: CameraDesc,
-    method: Method,
-    model: MisModel,
-    sampler: SamplerKind,
-    quads: QuadSampling,
-    selection: LightSelection,
-    light_samples: u16,
-    bsdf_samples: u16,
+    integrator: IntegratorDesc,
     steps: Vec<Step>,
     counts: Counts,
 }
@@ -207,46 +203,44 @@ impl SceneFile {
         Ok(scene)
     }
 
-    /// The integrator block's defaults: method and sample counts (1 spp, seed 0).
-    pub fn default_settings(&self) -> Result<RenderSettings, LoadError> {
-        RenderSettings::new(self.method, self.light_samples, self.bsdf_samples, 1, 0)
-            .and_then(|s| s.with_mis_model(self.model))
-            .map(|s| {
-                s.with_sampler(self.sampler)
-                    .with_quad_sampling(self.quads)
-                    .with_light_selection(self.selection)
-            })
-            .map_err(|e| self.error("integrator", e))
+    /// The file's integrator block.
+    pub fn integrator(&self) -> &IntegratorDesc {
+        &self.integrator
     }
 
-    /// The quad-light sampling of the integrator block (`quad_sampling`).
-    pub fn default_quad_sampling(&self) -> QuadSampling {
-        self.quads
+    /// The settings of the file's integrator block (1 spp, seed 0): from the best preset unless
+    /// the block names another, with the block's keys.
+    pub fn default_settings(&self) -> RenderSettings {
+        // Checked when the file was loaded.
+        self.integrator.settings(1, 0).unwrap_or_else(|_| picomis::Preset::Best.settings())
     }
 
-    /// The light selection of the integrator block (`light_selection`).
-    pub fn default_light_selection(&self) -> LightSelection {
-        self.selection
+    /// Whether the scene has a light of each kind: area lights on spheres, area lights on quads,
+    /// point lights (a firmware build carries the code of the kinds it has only).
+    pub fn light_kinds(&self) -> LightKinds {
+        let mut kinds = LightKinds::default();
+        for step in &self.steps {
+            match step {
+                Step::Shape { emitter: Some(_), geometry: Geometry::Sphere { .. }, .. } => kinds.spheres = true,
+                Step::Shape { emitter: Some(_), geometry: Geometry::Quad(_), .. } => kinds.quads = true,
+                Step::PointLight { .. } => kinds.points = true,
+                _ => {}
+            }
+        }
+        kinds
     }
 
-    /// The sample stream of the integrator block.
-    pub fn default_sampler(&self) -> SamplerKind {
-        self.sampler
-    }
-
-    /// The default method of the integrator block.
-    pub fn default_method(&self) -> Method {
-        self.method
-    }
-
-    /// The MIS model of the integrator block (`mis_model`, `c_light`).
-    pub fn default_model(&self) -> MisModel {
-        self.model
-    }
-
-    /// Light and BSDF samples per camera sample of the integrator block.
-    pub fn default_samples(&self) -> (u16, u16) {
-        (self.light_samples, self.bsdf_samples)
+    /// Whether the scene has a material of each kind.
+    pub fn material_kinds(&self) -> MaterialKinds {
+        let mut kinds = MaterialKinds::default();
+        for step in &self.steps {
+            match step {
+                Step::Material(Material::Lambertian { .. }) => kinds.lambertian = true,
+                Step::Material(Material::GgxConductor { .. }) => kinds.ggx = true,
+                _ => {}
+            }
+        }
+        kinds
     }
 
     /// Rust source of a module that builds this scene with its own capacities (see the crate
@@ -276,14 +270,24 @@ impl SceneFile {
     }
 }
 
-/// Parses a MIS model name: `multi`, or `one` with the light technique's probability `c_light`
-/// (in [0, 1]).
-pub fn parse_mis_model(name: &str, c_light: f32) -> Result<MisModel, String> {
-    match name {
-        "multi" => Ok(MisModel::Multi),
-        "one" => MisModel::one(c_light).map_err(|e| e.to_string()),
-        other => Err(format!("unknown MIS model {other:?} (expected multi or one)")),
-    }
+/// Which kinds of lights a scene has ([`SceneFile::light_kinds`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LightKinds {
+    /// Area lights on spheres.
+    pub spheres: bool,
+    /// Area lights on quads.
+    pub quads: bool,
+    /// Point lights.
+    pub points: bool,
+}
+
+/// Which kinds of materials a scene has ([`SceneFile::material_kinds`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MaterialKinds {
+    /// Lambertian.
+    pub lambertian: bool,
+    /// GGX conductor.
+    pub ggx: bool,
 }
 
 /// Checks that a camera description is valid for a 1x1 film (used while lowering).

@@ -3,7 +3,8 @@
 //! MIS weights (false colour with a legend) and weighted contributions.
 
 use embedded_graphics_core::pixelcolor::RgbColor;
-use picomis::{Estimate, Heuristic, Method, RenderSettings, Rgb, TechniqueEstimate, tone_map};
+use picomis::{ControlVariate, Estimate, Heuristic, Method, Preset, RenderSettings, Rgb, TechniqueEstimate, tone_map};
+use picomis_format::IntegratorDesc;
 
 use crate::SimError;
 use crate::render::{Batch, Estimates, RenderBatch};
@@ -32,7 +33,7 @@ fn weights_panel() -> usize {
 fn methods() -> Result<Vec<Method>, SimError> {
     METHODS
         .iter()
-        .map(|(name, _)| Method::from_name(name).map_err(|e| SimError::Usage(e.to_string())))
+        .map(|(name, _)| Method::from_name(name).ok_or_else(|| SimError::Usage(format!("unknown method {name:?}"))))
         .collect()
 }
 
@@ -85,19 +86,32 @@ fn upscale(src: &[[u8; 3]], w: u32, h: u32, k: u32) -> Vec<[u8; 3]> {
     out
 }
 
-/// The settings of the figure's renders for `loaded`'s scene: its sample counts, `spp`, `seed`.
+/// The settings of the figure's renders for `loaded`'s scene: the scene file's integrator block
+/// over the lecture's preset, `flags` over both, each panel with its own method (and at least one
+/// light and one BSDF sample). A panel whose method has no light technique leaves the control
+/// variate off (it belongs to that technique).
 pub fn figure_settings(
     loaded: &Loaded,
     spp: u32,
     seed: u32,
-    extras: &picomis_host::study::Extras,
+    flags: &IntegratorDesc,
 ) -> Result<Vec<RenderSettings>, SimError> {
-    let (n_light, n_bsdf) = loaded.file.default_samples();
+    for (set, flag) in [(flags.mis.is_some(), "--mis"), (flags.beta.is_some(), "--beta"), (flags.alpha.is_some(), "--alpha")] {
+        if set {
+            return Err(SimError::Usage(format!("{flag}: the figure renders its own methods (one per panel)")));
+        }
+    }
+    let base = crate::cli::integrator(loaded, flags, Some(Preset::Lecture), spp, seed)?;
+    let (n_light, n_bsdf) = base.sample_counts();
+    let base = base
+        .with_method(WEIGHTS_OF)
+        .and_then(|b| b.with_sample_counts(n_light.max(1), n_bsdf.max(1)))
+        .map_err(|e| SimError::Usage(format!("settings: {e}")))?;
     methods()?
         .into_iter()
         .map(|method| {
-            RenderSettings::new(method, n_light.max(1), n_bsdf.max(1), spp, seed)
-                .and_then(|s| extras.apply(s))
+            base.with_method(method)
+                .or_else(|_| base.with_control_variate(ControlVariate::Off).and_then(|b| b.with_method(method)))
                 .map_err(|e| SimError::Usage(format!("settings: {e}")))
         })
         .collect()
@@ -108,11 +122,14 @@ pub fn render_figure(
     loaded: &Loaded,
     spp: u32,
     seed: u32,
-    extras: &picomis_host::study::Extras,
+    flags: &IntegratorDesc,
 ) -> Result<(Canvas, Batch), SimError> {
-    let settings = figure_settings(loaded, spp, seed, extras)?;
+    let settings = figure_settings(loaded, spp, seed, flags)?;
     let film = loaded.file.film();
-    let batch = loaded.visit(film, RenderBatch { settings: &settings, message: "figure" })?;
+    let scene = loaded.build(film)?;
+    let batch = RenderBatch { settings: &settings, message: "figure" }
+        .run(&scene)
+        .map_err(|e| SimError::Usage(format!("{}: {e}", loaded.file.name())))?;
     let (n_light, n_bsdf) = settings[weights_panel()].technique_samples();
     let lights = loaded.file.counts().lights;
     let mut caption = vec![
@@ -131,11 +148,10 @@ pub fn render_figure(
             )
         },
     ];
-    if *extras != picomis_host::study::Extras::default() {
-        caption.push(format!(
-            "Every render: MIS model {:?}, quads sampled by {:?}, control variate {:?}.",
-            extras.model, extras.quads, extras.control_variate
-        ));
+    let beyond = IntegratorDesc::differences(&settings[weights_panel()], Preset::Lecture);
+    if !beyond.is_empty() {
+        let list: Vec<String> = beyond.iter().map(|(k, v)| format!("{k} {v}")).collect();
+        caption.push(format!("Every render: {}.", list.join(", ")));
     }
     Ok((compose(&batch.images, &caption), batch))
 }

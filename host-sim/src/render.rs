@@ -1,13 +1,13 @@
-//! Rendering on all cores: one row per rayon task, every pixel `picomis::render_pixel`
-//! (deterministic per seed, pixel and sample, so the thread count never changes the image).
+//! Rendering on all cores: one row per rayon task, every pixel the kernel's estimate
+//! ([`picomis_host::Renderer`], monomorphised for the render's strategies; deterministic per
+//! seed, pixel and sample, so the thread count never changes the image).
 
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use picomis::{Estimate, RenderSettings, Scene, render_pixel};
+use picomis::{Estimate, RenderSettings, SceneError};
+use picomis_host::{HostScene, Renderer, renderer};
 use rayon::prelude::*;
-
-use crate::scenes::SceneVisitor;
 
 /// Per-pixel estimates of one render, row-major, row 0 at the top.
 #[derive(Clone, Debug)]
@@ -36,21 +36,24 @@ pub fn progress_bar(steps: u64, message: &str) -> ProgressBar {
     bar
 }
 
-/// Renders `scene` with `settings` on all cores, advancing `progress` by `spp` per row (so one
-/// bar can follow renders of different spp).
-pub fn render_estimates<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
+/// Renders the film of `scene` with `settings` on all cores, advancing `progress` by `spp` per
+/// row (so one bar can follow renders of different spp).
+pub fn render_estimates(
+    scene: &HostScene,
     settings: &RenderSettings,
     progress: &ProgressBar,
-) -> Estimates {
-    let film = scene.film();
+) -> Result<Estimates, SceneError> {
+    Ok(render_with(&*renderer(scene, settings)?, scene.film(), progress))
+}
+
+/// Renders `film` with `renderer` on all cores (see [`render_estimates`]).
+pub fn render_with(renderer: &dyn Renderer, film: picomis::Film, progress: &ProgressBar) -> Estimates {
     let (width, height) = (film.width(), film.height());
+    let spp = renderer.settings().spp();
     let mut pixels = vec![Estimate::default(); film.pixels() as usize];
     pixels.par_chunks_mut(width as usize).zip(0..height).for_each(|(row, y)| {
-        for (x, px) in (0..width).zip(row.iter_mut()) {
-            *px = render_pixel(scene, settings, x, y);
-        }
-        progress.inc(u64::from(settings.spp()));
+        renderer.render_row(y, row);
+        progress.inc(u64::from(spp));
     });
     Estimates { width, height, pixels }
 }
@@ -66,7 +69,7 @@ pub struct Batch {
     pub camera_samples: u64,
 }
 
-/// A [`SceneVisitor`] that renders the scene once per settings entry, sharing one progress bar.
+/// Renders of one scene, one per settings entry, sharing one progress bar.
 pub struct RenderBatch<'a> {
     /// The renders to do.
     pub settings: &'a [RenderSettings],
@@ -74,39 +77,20 @@ pub struct RenderBatch<'a> {
     pub message: &'a str,
 }
 
-impl SceneVisitor for RenderBatch<'_> {
-    type Output = Batch;
-    fn visit<const S: usize, const L: usize, const M: usize>(self, scene: Scene<S, L, M>) -> Batch {
+impl RenderBatch<'_> {
+    /// Renders `scene` once per settings entry; the scene's error when the kernel refuses a
+    /// settings entry.
+    pub fn run(&self, scene: &HostScene) -> Result<Batch, SceneError> {
         let film = scene.film();
         let steps = self.settings.iter().map(|s| u64::from(film.height()) * u64::from(s.spp())).sum();
         let bar = progress_bar(steps, self.message);
         let start = Instant::now();
-        let images = self.settings.iter().map(|s| render_estimates(&scene, s, &bar)).collect();
+        let images = self.settings.iter().map(|s| render_estimates(scene, s, &bar)).collect::<Result<_, _>>()?;
         let elapsed = start.elapsed();
         bar.finish_and_clear();
         let camera_samples =
             self.settings.iter().map(|s| u64::from(film.pixels()) * u64::from(s.spp())).sum();
-        Batch { images, elapsed, camera_samples }
-    }
-}
-
-/// A [`RenderBatch`] whose scene runs its ray queries in `arith` ([`Scene::enable_arith`]):
-/// the scene's error when the arithmetic cannot represent it.
-pub struct ArithBatch<'a> {
-    /// The ray queries' arithmetic.
-    pub arith: picomis::Arith,
-    /// The renders.
-    pub batch: RenderBatch<'a>,
-}
-
-impl SceneVisitor for ArithBatch<'_> {
-    type Output = Result<Batch, picomis::SceneError>;
-    fn visit<const S: usize, const L: usize, const M: usize>(
-        self,
-        mut scene: Scene<S, L, M>,
-    ) -> Result<Batch, picomis::SceneError> {
-        scene.enable_arith(self.arith)?;
-        Ok(self.batch.visit(scene))
+        Ok(Batch { images, elapsed, camera_samples })
     }
 }
 

@@ -3,15 +3,11 @@
 //! [`Method`] with its sphere-light sampling and the further [`Extras`] it sets (the render
 //! settings, and the arithmetic of the scene's ray queries), named for files and titled for charts.
 
-use picomis::Arith;
-use picomis::error::SceneError;
-use picomis::integrator::model::{DEFAULT_C_LIGHT, MisModel};
-use picomis::integrator::{ControlVariate, RenderSettings};
-use picomis::integrator::{Heuristic, Method};
-use picomis::light::lobe::LobeMixing;
-use picomis::light::{LightSelection, QuadSampling, SphereSampling};
-use picomis::sampling::sampler::SamplerKind;
-use picomis::scene::Scene;
+use picomis::integrator::model::DEFAULT_C_LIGHT;
+use picomis::{
+    Arith, ControlVariate, Heuristic, LightSelection, LobeMixing, Method, MisModel, Preset, QuadSampling,
+    RenderSettings, SamplerKind, Scene, SceneError, SphereSampling,
+};
 
 /// A method of the study.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,22 +46,28 @@ pub struct Extras {
 }
 
 impl Default for Extras {
-    /// The default sample stream, uniform light selection (the Veach region study needs it),
-    /// and the lecture's estimator.
+    /// The lecture's estimator ([`Preset::Lecture`]: uniform light selection, which the Veach
+    /// region study needs) with its stratified sample stream.
     fn default() -> Self {
-        Extras {
-            sampler: SamplerKind::default(),
-            selection: LightSelection::Uniform,
-            model: MisModel::default(),
-            quads: QuadSampling::default(),
-            control_variate: ControlVariate::default(),
-            lobe: LobeMixing::DEFAULT,
-            arith: Arith::F32,
-        }
+        Extras::of(Preset::Lecture)
     }
 }
 
 impl Extras {
+    /// The options of `preset`, in f32.
+    pub fn of(preset: Preset) -> Self {
+        let s = preset.settings();
+        Extras {
+            sampler: s.sampler(),
+            selection: s.light_selection(),
+            model: s.mis_model(),
+            quads: s.quad_sampling(),
+            control_variate: s.control_variate(),
+            lobe: s.lobe_mixing(),
+            arith: Arith::F32,
+        }
+    }
+
     /// `settings` with these options.
     pub fn apply(&self, settings: RenderSettings) -> Result<RenderSettings, SceneError> {
         settings
@@ -73,8 +75,8 @@ impl Extras {
             .with_light_selection(self.selection)
             .with_mis_model(self.model)?
             .with_quad_sampling(self.quads)
-            .with_control_variate(self.control_variate)
             .with_lobe_mixing(self.lobe)
+            .with_control_variate(self.control_variate)
     }
 
     /// Runs `scene`'s ray queries in this arithmetic ([`Scene::enable_arith`]): the scene's
@@ -195,9 +197,7 @@ mod tests {
     fn study_methods_are_valid_distinct_and_titled_with_the_defaults() {
         let all = study_methods();
         for (i, m) in all.iter().enumerate() {
-            // Lobe mixing needs the `lobe` feature; without it its settings are an error.
-            let available = LobeMixing::AVAILABLE || m.extras.lobe == LobeMixing::Off;
-            assert_eq!(m.settings(1, 1, 1, 0).is_ok(), available, "{}", m.label);
+            assert!(m.settings(1, 1, 1, 0).is_ok(), "{}", m.label);
             assert!(all[..i].iter().all(|o| o.label != m.label && o != m), "{} twice", m.label);
         }
         // Each of the kernel's methods, and both sphere samplings, is in the list.

@@ -91,6 +91,11 @@ pub enum SceneError {
     AlreadyEmitting,
     /// Both sample counts are zero: no technique is left.
     NoTechnique,
+    /// The control variate with a method that draws no light samples: its closed form belongs
+    /// to the light technique.
+    ControlVariateWithoutLight,
+    /// The settings name other strategies than the estimator was built for.
+    StrategyMismatch,
     /// The fixed-point format chosen for the scene cannot represent shape `entry` accurately
     /// (feature `fixed`).
     #[cfg(feature = "fixed")]
@@ -189,6 +194,12 @@ impl fmt::Display for SceneError {
             SceneError::UnknownShape => f.write_str("unknown shape"),
             SceneError::AlreadyEmitting => f.write_str("shape already has an emitter"),
             SceneError::NoTechnique => f.write_str("both sample counts are zero"),
+            SceneError::ControlVariateWithoutLight => {
+                f.write_str("the control variate needs the light technique (a method with light samples)")
+            }
+            SceneError::StrategyMismatch => {
+                f.write_str("the settings name other strategies than the estimator was built for")
+            }
             #[cfg(feature = "fixed")]
             SceneError::NotRepresentable { entry, reason } => {
                 write!(f, "fixed point cannot represent shape {entry}: {reason}")

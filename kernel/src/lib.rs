@@ -42,6 +42,7 @@
 // `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod choice;
 pub mod error;
 pub mod geometry;
 pub mod integrator;
@@ -52,26 +53,21 @@ pub mod query;
 pub mod sampling;
 pub mod scene;
 
+pub use choice::Choice;
 #[cfg(feature = "fixed")]
 pub use error::Unrepresentable;
 pub use error::{Collection, Field, SceneError};
 pub use geometry::{Camera, CameraDesc, Film, FovAxis, Ray, Shape, SurfacePoint};
 pub use integrator::{
-    ControlVariate, Estimate, Heuristic, MAX_CONTRIBUTION, Method, MisModel, ParseMethodError,
-    RenderSettings, Shading, Technique, TechniqueEstimate, UnknownMethod, estimate_direct,
-    estimate_direct_multi_sample, estimate_direct_one_sample, shade, trace,
+    ControlVariate, Direct, Estimate, Heuristic, Integrator, MAX_CONTRIBUTION, Method, MisModel, Preset,
+    RenderSettings, Shading, Strategies, Technique, TechniqueEstimate, dispatch,
 };
-pub use light::lobe::LobeMixing;
 pub use light::{
-    LightChoice, LightSample, LightSampler, LightSelection, QuadSampling, ShadingPoint, SphereSampling,
+    LightChoice, LightSample, LightSampler, LightSelection, Lights, LobeMixing, QuadSampling, ShadingPoint,
+    SphereSampling,
 };
 pub use num::{Rgb, Vec2, Vec3};
-pub use output::{
-    Digest, RenderStats, camera_sample, film_rect, render, render_digest, render_pixel, render_tile, tiles,
-    tone_map,
-};
+pub use output::{Digest, RenderStats, film_rect, render_digest, tiles, tone_map};
 pub use query::Arith;
 pub use sampling::{Sampler, SamplerKind};
-pub use scene::{
-    BsdfSample, Emission, Hit, Light, LightId, MAX_EMISSION, Material, MaterialId, Object, Scene, ShapeId,
-};
+pub use scene::{BsdfSample, Emission, Hit, Light, LightId, MAX_EMISSION, Material, MaterialId, Object, Scene, ShapeId};

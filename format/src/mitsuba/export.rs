@@ -87,7 +87,9 @@ pub(crate) fn export(scene: &SceneFile, text: &str) -> Result<Export, LoadError>
     line("<scene version=\"3.0.0\">".into());
     line("    <default name=\"spp\" value=\"64\"/>".into());
     line("    <default name=\"seed\" value=\"0\"/>".into());
-    match scene.method {
+    let settings = scene.default_settings();
+    let (light_samples, bsdf_samples) = settings.sample_counts();
+    match settings.method() {
         Method::Mis(Heuristic::Power { beta: 2.0 }) => {}
         other => notes.push(format!(
             "{}: the scene's default method {other:?} is not kept: Mitsuba's direct integrator always uses the power heuristic (beta 2)",
@@ -95,8 +97,8 @@ pub(crate) fn export(scene: &SceneFile, text: &str) -> Result<Export, LoadError>
         )),
     }
     line("    <integrator type=\"direct\">".into());
-    line(format!("        <integer name=\"emitter_samples\" value=\"{}\"/>", scene.light_samples));
-    line(format!("        <integer name=\"bsdf_samples\" value=\"{}\"/>", scene.bsdf_samples));
+    line(format!("        <integer name=\"emitter_samples\" value=\"{}\"/>", light_samples));
+    line(format!("        <integer name=\"bsdf_samples\" value=\"{}\"/>", bsdf_samples));
     line("        <boolean name=\"hide_emitters\" value=\"false\"/>".into());
     line("    </integrator>".into());
 

@@ -7,8 +7,8 @@
 //! the largest `q`, so 0/0, inf/inf and overflow of `q^beta` cannot happen.
 
 use core::fmt;
-use core::str::FromStr;
 
+use crate::choice::Choice;
 use crate::error::{Field, SceneError};
 
 /// A weighting heuristic over any number of techniques.
@@ -129,7 +129,7 @@ pub enum Technique {
 }
 
 /// How the light and BSDF techniques are used and combined. `Display` writes the name,
-/// [`FromStr`] reads it (with default parameters).
+/// [`Method::from_name`] reads it (with default parameters).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Method {
@@ -257,52 +257,55 @@ impl fmt::Display for Method {
     }
 }
 
-/// A method name that [`Method::ALL`] does not have; the message lists every name.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct UnknownMethod<'a>(pub &'a str);
+impl Choice for Method {
+    const WHAT: &'static str = "method";
+    const ALL: &'static [Self] = &Method::ALL;
 
-impl fmt::Display for UnknownMethod<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "unknown method {:?} (expected ", self.0)?;
-        let last = Method::ALL.len() - 1;
-        for (i, m) in Method::ALL.iter().enumerate() {
-            let sep = match i {
-                0 => "",
-                i if i == last => " or ",
-                _ => ", ",
-            };
-            write!(f, "{sep}{m}")?;
-        }
-        f.write_str(")")
+    fn name(self) -> &'static str {
+        Method::name(&self)
+    }
+
+    fn summary(self) -> &'static str {
+        Method::summary(&self)
     }
 }
-
-impl core::error::Error for UnknownMethod<'_> {}
 
 impl Method {
     /// The method called `name` (one of [`Method::ALL`]'s names), with default parameters.
-    pub fn from_name(name: &str) -> Result<Method, UnknownMethod<'_>> {
-        Method::ALL.into_iter().find(|m| m.name() == name).ok_or(UnknownMethod(name))
+    pub fn from_name(name: &str) -> Option<Method> {
+        <Self as Choice>::from_name(name)
     }
 }
 
-/// Why [`Method::from_str`](FromStr::from_str) failed: see [`Method::from_name`], whose error
-/// also names the input.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ParseMethodError;
+/// Where the estimator takes its combination method from: the settings (a host render chooses
+/// any method at run time) or a constant ([`ConstMethod`]: a firmware's scene file fixes it, so
+/// the compiler keeps only that method's arithmetic: no `powf` for beta = 2).
+pub trait Weighting: 'static {
+    /// The method of a render whose settings name `method`.
+    fn method(method: Method) -> Method;
+}
 
-impl fmt::Display for ParseMethodError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        UnknownMethod("").fmt(f)
+/// The settings' method.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FromSettings;
+
+impl Weighting for FromSettings {
+    #[inline(always)]
+    fn method(method: Method) -> Method {
+        method
     }
 }
 
-impl core::error::Error for ParseMethodError {}
+/// A method fixed at compile time (the settings must name the same one).
+pub trait ConstMethod: 'static {
+    /// The method.
+    const METHOD: Method;
+}
 
-impl FromStr for Method {
-    type Err = ParseMethodError;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Method::from_name(s).map_err(|_| ParseMethodError)
+impl<T: ConstMethod> Weighting for T {
+    #[inline(always)]
+    fn method(_: Method) -> Method {
+        T::METHOD
     }
 }
 
@@ -373,15 +376,15 @@ mod tests {
     #[test]
     fn names_parse_back_to_the_default_methods() {
         for m in Method::ALL {
-            assert_eq!(m.name().parse::<Method>(), Ok(m));
+            assert_eq!(Method::from_name(m.name()), Some(m));
             assert_eq!(m.validated(), Ok(m));
         }
-        assert_eq!("power".parse(), Ok(Method::Mis(Heuristic::Power { beta: 2.0 })));
-        assert_eq!("cutoff".parse(), Ok(Method::Mis(Heuristic::Cutoff { alpha: 0.1 })));
-        assert_eq!("nope".parse::<Method>(), Err(ParseMethodError));
+        assert_eq!(Method::from_name("power"), Some(Method::Mis(Heuristic::Power { beta: 2.0 })));
+        assert_eq!(Method::from_name("cutoff"), Some(Method::Mis(Heuristic::Cutoff { alpha: 0.1 })));
+        assert_eq!(Method::from_name("nope"), None);
         assert_eq!(
-            format!("{}", UnknownMethod("x")),
-            "unknown method \"x\" (expected bsdf, light, average, balance, power, maximum or cutoff)"
+            format!("{}", crate::choice::Names::<Method>::of()),
+            "bsdf, light, average, balance, power, maximum or cutoff"
         );
     }
 

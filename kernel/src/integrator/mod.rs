@@ -1,14 +1,32 @@
-//! The direct-lighting integrator: its settings, the MIS weights and models of Veach and Guibas
-//! (1995), the estimator that combines light and BSDF sampling, and the analytic control variate.
+//! The direct-lighting integrator: its settings and presets, the MIS weights and models of Veach
+//! and Guibas (1995), the estimator that combines light and BSDF sampling, and the analytic
+//! control variate. The strategies of a render are types ([`Strategies`]), chosen once.
+//!
+//! | file | what |
+//! |---|---|
+//! | `settings.rs` | [`RenderSettings`] and the [`Preset`]s they start from |
+//! | `mis.rs` | the heuristics and methods ([`Method`]), and where the estimator takes them from ([`Weighting`]) |
+//! | `model.rs` | the multi-sample and one-sample models ([`MisModel`]; types [`model::Multi`], [`model::One`]) |
+//! | `control_variate.rs` | the analytic control variate ([`ControlVariate`]; types [`control_variate::Off`], [`control_variate::On`]) |
+//! | `closed_form.rs` | the closed forms of unoccluded light on Lambertian receivers |
+//! | `strategies.rs` | the strategies as one type ([`Strategies`], [`Direct`]) and [`dispatch`] |
+//! | `estimate.rs` | what the estimator returns ([`Estimate`], [`TechniqueEstimate`]) |
+//! | `estimator.rs` | the estimator itself ([`Integrator`]) |
 
 pub(crate) mod closed_form;
+pub mod control_variate;
+mod estimate;
 mod estimator;
 mod mis;
 pub mod model;
 mod settings;
+mod strategies;
 
 pub use closed_form::{projected_solid_angle, quad_projected_solid_angle, sphere_projected_solid_angle};
-pub use estimator::*;
-pub use mis::*;
-pub use model::MisModel;
-pub use settings::*;
+pub use control_variate::{ControlVariate, ControlVariateStrategy};
+pub use estimate::{Estimate, MAX_CONTRIBUTION, TechniqueEstimate};
+pub use estimator::{Integrator, Shading};
+pub use mis::{ConstMethod, FromSettings, Heuristic, Method, Technique, Weighting};
+pub use model::{MisModel, Model};
+pub use settings::{Preset, RenderSettings};
+pub use strategies::{Direct, Strategies, Visit, dispatch, type_paths};

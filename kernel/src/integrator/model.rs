@@ -7,6 +7,7 @@
 //!   For this model the balance heuristic is provably the best weighting (Veach 1997, theorem
 //!   9.4); with it the estimate is f / (c_l p_l + c_b p_b), mixture sampling.
 
+use crate::choice::Choice;
 use crate::error::{Field, SceneError};
 
 /// How many samples a camera sample draws, and from which technique.
@@ -23,19 +24,10 @@ pub enum MisModel {
     },
 }
 
-impl Default for MisModel {
-    fn default() -> Self {
-        Self::DEFAULT
-    }
-}
-
 /// The default probability of the light technique in the one-sample model.
 pub const DEFAULT_C_LIGHT: f32 = 0.5;
 
 impl MisModel {
-    /// The default model (a constant, for the settings' `const` constructors).
-    pub const DEFAULT: Self = MisModel::Multi;
-
     /// The one-sample model with light probability `c_light`, which must be in [0, 1].
     pub const fn one(c_light: f32) -> Result<Self, SceneError> {
         if !c_light.is_finite() {
@@ -46,6 +38,54 @@ impl MisModel {
         }
         Ok(MisModel::One { c_light })
     }
+
+    /// Whether this is the one-sample model.
+    pub const fn is_one_sample(self) -> bool {
+        matches!(self, MisModel::One { .. })
+    }
+}
+
+impl Choice for MisModel {
+    const WHAT: &'static str = "MIS model";
+    /// Both models, the one-sample one with [`DEFAULT_C_LIGHT`].
+    const ALL: &'static [Self] = &[MisModel::Multi, MisModel::One { c_light: DEFAULT_C_LIGHT }];
+
+    fn name(self) -> &'static str {
+        match self {
+            MisModel::Multi => "multi",
+            MisModel::One { .. } => "one",
+        }
+    }
+
+    fn summary(self) -> &'static str {
+        match self {
+            MisModel::Multi => "every technique draws its samples (light and BSDF sample counts)",
+            MisModel::One { .. } => "one sample per camera sample: light with probability c_light, else BSDF",
+        }
+    }
+}
+
+/// The model of a render, as a type: the estimator branches on [`Model::ONE_SAMPLE`], a
+/// constant, so a build carries the code of the model it names only.
+pub trait Model: 'static {
+    /// Whether each camera sample draws one sample of one technique.
+    const ONE_SAMPLE: bool;
+}
+
+/// The multi-sample model (the lecture's).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Multi;
+
+impl Model for Multi {
+    const ONE_SAMPLE: bool = false;
+}
+
+/// The one-sample model (its `c_light` is a number of the settings).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct One;
+
+impl Model for One {
+    const ONE_SAMPLE: bool = true;
 }
 
 #[cfg(test)]

@@ -1,11 +1,13 @@
-//! Render settings: which techniques, how many samples, how they are combined, and the seed.
+//! Render settings: which techniques, how many samples, how they are combined, by which
+//! strategies, and the seed; and the presets they start from ([`Preset`]): the settings that
+//! measure best, which every render gets unless told otherwise, and the lecture's.
 
 use crate::error::{Field, SceneError};
-use crate::integrator::mis::Method;
+use crate::integrator::control_variate::ControlVariate;
+use crate::integrator::mis::{Heuristic, Method};
 use crate::integrator::model::MisModel;
-use crate::light::lobe::LobeMixing;
-use crate::light::{LightSelection, QuadSampling, SphereSampling};
-use crate::sampling::sampler::SamplerKind;
+use crate::light::{LightSelection, LobeMixing, QuadSampling, SphereSampling};
+use crate::sampling::SamplerKind;
 
 /// Validated settings for one render. A seed fully determines the image.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,31 +27,46 @@ pub struct RenderSettings {
     lobe: LobeMixing,
 }
 
-/// Whether the unoccluded light reaching a Lambertian receiver is computed in closed form, with
-/// Monte Carlo left for the shadows only (see [`crate::integrator::closed_form`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum ControlVariate {
-    /// Every light is estimated by sampling alone.
-    Off,
-    /// Integral f V = integral f (closed form) + integral f (V - 1) (sampled with MIS).
-    On,
+crate::choices! {
+    /// Where a render's settings start from, before a scene file's integrator block and the
+    /// command line's flags change any of them.
+    pub enum Preset: "preset" {
+        /// The settings that measure best: what every render gets unless told otherwise.
+        Best = "best", "the settings that measure best (the default)";
+        /// The lecture's estimator: every light equally likely, quad lights by area, light
+        /// samples from the light alone, no control variate.
+        Lecture = "lecture", "the lecture's estimator: lights equally likely, quads by area, no lobe mixing, no control variate";
+    }
 }
 
-impl ControlVariate {
-    /// The default (a constant, for the settings' `const` constructors).
-    pub const DEFAULT: Self = ControlVariate::Off;
-}
-
-impl Default for ControlVariate {
-    fn default() -> Self {
-        Self::DEFAULT
+impl Preset {
+    /// The preset's settings: the power heuristic with one light and one BSDF sample per camera
+    /// sample, 1 spp, seed 0, and the preset's strategies.
+    pub const fn settings(self) -> RenderSettings {
+        let lecture = RenderSettings {
+            method: Method::Mis(Heuristic::Power { beta: Heuristic::DEFAULT_BETA }),
+            light_samples: 1,
+            bsdf_samples: 1,
+            spp: 1,
+            seed: 0,
+            spheres: SphereSampling::Cone,
+            selection: LightSelection::Uniform,
+            model: MisModel::Multi,
+            quads: QuadSampling::Area,
+            control_variate: ControlVariate::Off,
+            sampler: SamplerKind::Sobol,
+            lobe: LobeMixing::Off,
+        };
+        match self {
+            Preset::Lecture => lecture,
+            Preset::Best => lecture,
+        }
     }
 }
 
 impl RenderSettings {
     /// Settings with `n_light` light and `n_bsdf` BSDF samples per camera sample, `spp` camera
-    /// samples per pixel. Rejects a method left with no samples, a power heuristic whose beta is
+    /// samples per pixel, and the strategies of [`Preset::Best`]. Rejects a method left with no samples, a power heuristic whose beta is
     /// not finite and positive, a cutoff alpha outside [0, 1], and `spp` = 0.
     pub const fn new(
         method: Method,
@@ -68,20 +85,7 @@ impl RenderSettings {
         if let (0, 0) = method.sample_counts(light_samples, bsdf_samples) {
             return Err(SceneError::NoTechnique);
         }
-        Ok(Self {
-            method,
-            light_samples,
-            bsdf_samples,
-            spp,
-            seed,
-            spheres: SphereSampling::DEFAULT,
-            selection: LightSelection::DEFAULT,
-            model: MisModel::DEFAULT,
-            quads: QuadSampling::DEFAULT,
-            control_variate: ControlVariate::DEFAULT,
-            sampler: SamplerKind::DEFAULT,
-            lobe: LobeMixing::DEFAULT,
-        })
+        Ok(Self { method, light_samples, bsdf_samples, spp, seed, ..Preset::Best.settings() })
     }
 
     /// The same settings with another MIS model. The one-sample model's `c_light` must be in
@@ -94,7 +98,7 @@ impl RenderSettings {
                 Err(e) => return Err(e),
             },
         };
-        Ok(self)
+        self.checked()
     }
 
     /// The same settings with another quad-light sampling strategy.
@@ -103,10 +107,21 @@ impl RenderSettings {
         self
     }
 
-    /// The same settings with the analytic control variate on or off.
-    pub const fn with_control_variate(mut self, control_variate: ControlVariate) -> Self {
+    /// The same settings with the analytic control variate on or off. On needs the light
+    /// technique, whose part the closed form is: a method and model that draw light samples.
+    pub const fn with_control_variate(mut self, control_variate: ControlVariate) -> Result<Self, SceneError> {
         self.control_variate = control_variate;
-        self
+        self.checked()
+    }
+
+    /// These settings, if the control variate (when on) has the light technique it belongs to.
+    const fn checked(self) -> Result<Self, SceneError> {
+        if let ControlVariate::On = self.control_variate {
+            if self.technique_samples().0 == 0 {
+                return Err(SceneError::ControlVariateWithoutLight);
+            }
+        }
+        Ok(self)
     }
 
     /// The same settings with another sphere-light sampling strategy.
@@ -127,14 +142,45 @@ impl RenderSettings {
         self
     }
 
-    /// The same settings with light samples that also follow a glossy receiver's lobe, or not;
-    /// [`LobeMixing::On`] is an error in a build without the kernel's `lobe` feature.
-    pub const fn with_lobe_mixing(mut self, lobe: LobeMixing) -> Result<Self, SceneError> {
-        self.lobe = match lobe.validated() {
-            Ok(l) => l,
+    /// The same settings with light samples that also follow a glossy receiver's lobe, or not.
+    pub const fn with_lobe_mixing(mut self, lobe: LobeMixing) -> Self {
+        self.lobe = lobe;
+        self
+    }
+
+    /// The same settings with the strategies of `preset` (the method, the sample counts, spp
+    /// and seed are kept).
+    pub const fn with_strategies_of(self, preset: Preset) -> Self {
+        let p = preset.settings();
+        Self {
+            spheres: p.spheres,
+            selection: p.selection,
+            model: p.model,
+            quads: p.quads,
+            control_variate: p.control_variate,
+            sampler: p.sampler,
+            lobe: p.lobe,
+            ..self
+        }
+    }
+
+    /// The same settings with another method (validated like [`Self::new`], and against the
+    /// control variate: see [`Self::with_control_variate`]).
+    pub const fn with_method(self, method: Method) -> Result<Self, SceneError> {
+        let s = match Self::new(method, self.light_samples, self.bsdf_samples, self.spp, self.seed) {
+            Ok(s) => s,
             Err(e) => return Err(e),
         };
-        Ok(self)
+        Self { method: s.method, ..self }.checked()
+    }
+
+    /// The same settings with `light_samples` light and `bsdf_samples` BSDF samples per camera
+    /// sample (validated like [`Self::new`]).
+    pub const fn with_sample_counts(self, light_samples: u16, bsdf_samples: u16) -> Result<Self, SceneError> {
+        match Self::new(self.method, light_samples, bsdf_samples, self.spp, self.seed) {
+            Ok(_) => Self { light_samples, bsdf_samples, ..self }.checked(),
+            Err(e) => Err(e),
+        }
     }
 
     /// The same settings with another seed.
@@ -158,14 +204,19 @@ impl RenderSettings {
     }
     /// Light and BSDF samples actually drawn per camera sample (in the one-sample model: at most
     /// one of either, whatever the counts, as `c_light` allows).
-    pub fn technique_samples(&self) -> (u16, u16) {
+    pub const fn technique_samples(&self) -> (u16, u16) {
         match self.model {
             MisModel::Multi => self.method.sample_counts(self.light_samples, self.bsdf_samples),
             MisModel::One { .. } => {
                 let c = self.c_light();
-                (u16::from(c > 0.0), u16::from(c < 1.0))
+                (if c > 0.0 { 1 } else { 0 }, if c < 1.0 { 1 } else { 0 })
             }
         }
+    }
+    /// Light and BSDF samples per camera sample, as requested (see
+    /// [`RenderSettings::technique_samples`] for those drawn).
+    pub fn sample_counts(&self) -> (u16, u16) {
+        (self.light_samples, self.bsdf_samples)
     }
     /// Camera samples per pixel.
     pub fn spp(&self) -> u32 {
@@ -189,7 +240,7 @@ impl RenderSettings {
     }
     /// Probability of the light technique in the one-sample model: `c_light` for a heuristic,
     /// 1 for light sampling alone and 0 for BSDF sampling alone.
-    pub fn c_light(&self) -> f32 {
+    pub const fn c_light(&self) -> f32 {
         match (self.method, self.model) {
             (Method::LightOnly, _) => 1.0,
             (Method::BsdfOnly, _) => 0.0,

@@ -16,69 +16,60 @@
 //! It applies to GGX receivers whose lobe is narrower than the light's angular size
 //! ([`LOBE_NARROWER`]); elsewhere light sampling is unchanged, bit for bit.
 //!
-//! The code is built only with the crate's `lobe` feature (on in the host crates): a firmware
-//! build without it contains none of it.
+//! A build that does not name [`On`] contains none of it.
 
-use crate::error::{Field, SceneError};
 use crate::geometry::Shape;
+use crate::light::sample::ShadingPoint;
 use crate::num::{Frame, Vec2, Vec3, dot, sqrt};
 use crate::sampling::{
     SlopeBox, cone_one_minus_cos, ggx_reflection_in_pdf, nearest_edge, sample_ggx_reflection_in,
 };
 use crate::scene::Material;
 
-/// Whether light samples also follow a glossy receiver's lobe where it meets the light.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum LobeMixing {
-    /// Light samples from the light alone.
-    Off,
-    /// A share of the light samples ([`LOBE_SHARE`]) from the receiver's lobe towards the light,
-    /// at GGX receivers whose lobe is narrower than the light ([`LOBE_NARROWER`]).
-    On,
-}
-
-impl LobeMixing {
-    /// The default (a constant, for the settings' `const` constructors).
-    pub const DEFAULT: Self = LobeMixing::Off;
-
-    /// Both settings, the default first.
-    pub const ALL: [LobeMixing; 2] = [LobeMixing::Off, LobeMixing::On];
-
-    /// Whether this build has the mixture (the crate's `lobe` feature).
-    pub const AVAILABLE: bool = cfg!(feature = "lobe");
-
-    /// The setting's name (command line, reports).
-    pub fn name(self) -> &'static str {
-        match self {
-            LobeMixing::Off => "off",
-            LobeMixing::On => "on",
-        }
-    }
-
-    /// The setting called `name`.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|m| m.name() == name)
-    }
-
-    /// The setting if this build can render it: [`LobeMixing::On`] needs the `lobe` feature.
-    pub const fn validated(self) -> Result<Self, SceneError> {
-        match self {
-            LobeMixing::On if !Self::AVAILABLE => Err(SceneError::OutOfRange(Field::LobeMixing)),
-            m => Ok(m),
-        }
+crate::choices! {
+    /// Whether light samples also follow a glossy receiver's lobe where it meets the light.
+    pub enum LobeMixing: "lobe mixing" {
+        /// Light samples from the light alone ([`Off`]).
+        Off = "off", "light samples from the light alone";
+        /// A share of the light samples ([`LOBE_SHARE`]) from the receiver's lobe towards the
+        /// light, at GGX receivers whose lobe is narrower than the light ([`LOBE_NARROWER`]) ([`On`]).
+        On = "on", "light samples also from a glossy receiver's lobe where it is narrower than the light";
     }
 }
 
-impl Default for LobeMixing {
-    fn default() -> Self {
-        Self::DEFAULT
+/// Whether a glossy receiver's lobe joins the light samples: a strategy type per setting.
+pub trait LobeSampler: Sync + 'static {
+    /// Its name among the settings.
+    const KIND: LobeMixing;
+
+    /// The lobe of the receiver at `at` towards the area light of shape `shape`, where it joins
+    /// the light samples.
+    fn towards(shape: &Shape, at: &ShadingPoint) -> Option<Lobe>;
+}
+
+/// Light samples from the light alone.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Off;
+
+impl LobeSampler for Off {
+    const KIND: LobeMixing = LobeMixing::Off;
+
+    #[inline(always)]
+    fn towards(_: &Shape, _: &ShadingPoint) -> Option<Lobe> {
+        None
     }
 }
 
-impl core::fmt::Display for LobeMixing {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str(self.name())
+/// Light samples also from a glossy receiver's lobe where it applies ([`Lobe::towards`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct On;
+
+impl LobeSampler for On {
+    const KIND: LobeMixing = LobeMixing::On;
+
+    #[inline]
+    fn towards(shape: &Shape, at: &ShadingPoint) -> Option<Lobe> {
+        Lobe::towards(shape, at.p, at.n, at.wo, &at.bsdf)
     }
 }
 

@@ -7,11 +7,8 @@
 //! contribution (r, g, b), weight sum and found count. Floats as `f32::to_bits`, so two digests
 //! are equal only if every part of every pixel has the same bits (up to hash collisions).
 
-use crate::integrator::RenderSettings;
-use crate::integrator::{Estimate, TechniqueEstimate};
+use crate::integrator::{Estimate, Integrator, Strategies, TechniqueEstimate};
 use crate::num::Rgb;
-use crate::output::render::render_pixel;
-use crate::scene::Scene;
 
 /// FNV-1a, 64 bits: offset basis.
 const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
@@ -67,16 +64,16 @@ impl Digest {
     }
 }
 
-/// The digest of a whole render: [`render_pixel`] for every pixel of the film, row-major.
-pub fn render_digest<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    settings: &RenderSettings,
+/// The digest of a whole render: [`Integrator::render_pixel`] for every pixel of the film,
+/// row-major.
+pub fn render_digest<St: Strategies<L>, const S: usize, const L: usize, const M: usize>(
+    integrator: &Integrator<'_, St, S, L, M>,
 ) -> u64 {
-    let film = scene.film();
+    let film = integrator.scene().film();
     let mut d = Digest::new();
     for y in 0..film.height() {
         for x in 0..film.width() {
-            d.push(&render_pixel(scene, settings, x, y));
+            d.push(&integrator.render_pixel(x, y));
         }
     }
     d.value()

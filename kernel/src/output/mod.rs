@@ -7,5 +7,5 @@ mod render;
 mod tonemap;
 
 pub use digest::{Digest, render_digest};
-pub use render::*;
+pub use render::{RenderStats, film_rect, tiles};
 pub use tonemap::tone_map;

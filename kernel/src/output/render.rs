@@ -8,12 +8,10 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 use embedded_graphics_core::primitives::Rectangle;
 
 use crate::geometry::Film;
-use crate::integrator::RenderSettings;
-use crate::integrator::{Estimate, shade};
+use crate::integrator::{Estimate, Integrator, Strategies};
 use crate::num::Vec2;
 use crate::output::tonemap::tone_map;
 use crate::sampling::sampler::Sampler;
-use crate::scene::Scene;
 
 /// What a render did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -38,66 +36,73 @@ impl RenderStats {
     }
 }
 
-/// One camera sample of pixel `(x, y)`: box filter over the pixel's footprint.
-#[inline]
-pub fn camera_sample<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    settings: &RenderSettings,
-    x: u32,
-    y: u32,
-    index: u32,
-) -> Estimate {
-    let film = scene.film();
-    let pixel = y.wrapping_mul(film.width()).wrapping_add(x);
-    let mut sampler = Sampler::with_kind(settings.sampler(), settings.seed(), pixel, index);
-    let jitter = sampler.next_2d();
-    let (ray, hit) = scene.camera_hit(Vec2::new(x as f32 + jitter.x, y as f32 + jitter.y), x, y);
-    shade(scene, settings, hit, ray.dir, &mut sampler)
-}
-
-/// The HDR estimate of pixel `(x, y)`: the mean of `spp` camera samples (weights and counts of
-/// the technique parts are sums over the samples).
-pub fn render_pixel<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    settings: &RenderSettings,
-    x: u32,
-    y: u32,
-) -> Estimate {
-    let mut sum = Estimate::default();
-    for s in 0..settings.spp() {
-        sum.merge(&camera_sample(scene, settings, x, y, s));
+impl<St: Strategies<L>, const S: usize, const L: usize, const M: usize> Integrator<'_, St, S, L, M> {
+    /// One camera sample of pixel `(x, y)`: box filter over the pixel's footprint.
+    #[inline]
+    pub fn camera_sample(&self, x: u32, y: u32, index: u32) -> Estimate {
+        let (scene, settings) = (self.scene(), self.settings());
+        let film = scene.film();
+        let pixel = y.wrapping_mul(film.width()).wrapping_add(x);
+        let mut sampler = Sampler::with_kind(settings.sampler(), settings.seed(), pixel, index);
+        let jitter = sampler.next_2d();
+        let (ray, hit) = scene.camera_hit(Vec2::new(x as f32 + jitter.x, y as f32 + jitter.y), x, y);
+        self.shade(hit, ray.dir, &mut sampler)
     }
-    // At 1 spp the mean is the sum: scaling by 1 would change no bit (every part is finite: the
-    // estimator drops NaNs and infinities, emission is validated), and on a soft-float core it
-    // costs a division and nine multiplies per pixel.
-    if settings.spp() != 1 {
-        sum.scale(1.0 / settings.spp() as f32);
-    }
-    sum
-}
 
-/// Renders the pixels of `area` (clipped to the film) into `target`, row by row through
-/// `fill_contiguous`, and passes the target's error through.
-pub fn render_tile<D, const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    settings: &RenderSettings,
-    area: &Rectangle,
-    target: &mut D,
-) -> Result<RenderStats, D::Error>
-where
-    D: DrawTarget,
-    D::Color: From<Rgb888>,
-{
-    let film = scene.film();
-    let area = area.intersection(&film_rect(film));
-    // `area` lies inside the film, so its corner is non-negative.
-    let (x0, y0) = (area.top_left.x as u32, area.top_left.y as u32);
-    let (w, h) = (area.size.width, area.size.height);
-    let colors = (y0..y0 + h).flat_map(|y| {
-        (x0..x0 + w).map(move |x| D::Color::from(tone_map(render_pixel(scene, settings, x, y).radiance())))
-    });
-    target.fill_contiguous(&area, colors)?;
-    Ok(RenderStats::new(area.size.width * area.size.height, settings.spp()))
+    /// The HDR estimate of pixel `(x, y)`: the mean of `spp` camera samples (weights and counts
+    /// of the technique parts are sums over the samples).
+    pub fn render_pixel(&self, x: u32, y: u32) -> Estimate {
+        let spp = self.settings().spp();
+        let mut sum = Estimate::default();
+        for s in 0..spp {
+            sum.merge(&self.camera_sample(x, y, s));
+        }
+        // At 1 spp the mean is the sum: scaling by 1 would change no bit (every part is finite:
+        // the estimator drops NaNs and infinities, emission is validated), and on a soft-float
+        // core it costs a division and nine multiplies per pixel.
+        if spp != 1 {
+            sum.scale(1.0 / spp as f32);
+        }
+        sum
+    }
+
+    /// Renders the pixels of `area` (clipped to the film) into `target`, row by row through
+    /// `fill_contiguous`, and passes the target's error through.
+    pub fn render_tile<D>(&self, area: &Rectangle, target: &mut D) -> Result<RenderStats, D::Error>
+    where
+        D: DrawTarget,
+        D::Color: From<Rgb888>,
+    {
+        let film = self.scene().film();
+        let area = area.intersection(&film_rect(film));
+        // `area` lies inside the film, so its corner is non-negative.
+        let (x0, y0) = (area.top_left.x as u32, area.top_left.y as u32);
+        let (w, h) = (area.size.width, area.size.height);
+        let colors = (y0..y0 + h)
+            .flat_map(|y| (x0..x0 + w).map(move |x| D::Color::from(tone_map(self.render_pixel(x, y).radiance()))));
+        target.fill_contiguous(&area, colors)?;
+        Ok(RenderStats::new(area.size.width * area.size.height, self.settings().spp()))
+    }
+
+    /// Renders the whole image tile by tile, calling `on_tile` after each tile (for progress).
+    pub fn render<D>(
+        &self,
+        tile: Size,
+        target: &mut D,
+        mut on_tile: impl FnMut(&Rectangle, &RenderStats),
+    ) -> Result<RenderStats, D::Error>
+    where
+        D: DrawTarget,
+        D::Color: From<Rgb888>,
+    {
+        let mut total = RenderStats::default();
+        for area in tiles(self.scene().film(), tile) {
+            let s = self.render_tile(&area, target)?;
+            total.add(&s);
+            on_tile(&area, &total);
+        }
+        Ok(total)
+    }
 }
 
 /// The film as a rectangle.
@@ -117,27 +122,6 @@ pub fn tiles(film: Film, tile: Size) -> impl Iterator<Item = Rectangle> {
             Rectangle::new(Point::new(x as i32, y as i32), Size::new(tw.min(w - x), th.min(h - y)))
         })
     })
-}
-
-/// Renders the whole image tile by tile, calling `on_tile` after each tile (for progress).
-pub fn render<D, const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    settings: &RenderSettings,
-    tile: Size,
-    target: &mut D,
-    mut on_tile: impl FnMut(&Rectangle, &RenderStats),
-) -> Result<RenderStats, D::Error>
-where
-    D: DrawTarget,
-    D::Color: From<Rgb888>,
-{
-    let mut total = RenderStats::default();
-    for area in tiles(scene.film(), tile) {
-        let s = render_tile(scene, settings, &area, target)?;
-        total.add(&s);
-        on_tile(&area, &total);
-    }
-    Ok(total)
 }
 
 #[cfg(test)]

@@ -226,40 +226,13 @@ fn reverse_pair(x: u32, y: u32) -> (u32, u32) {
     }
 }
 
-/// The closed set of sample streams.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum SamplerKind {
-    /// Independent uniform numbers (PCG).
-    Independent,
-    /// Padded Owen-scrambled Sobol: every 2-D request is a scrambled (0, 2)-sequence.
-    Sobol,
-}
-
-impl Default for SamplerKind {
-    fn default() -> Self {
-        Self::DEFAULT
-    }
-}
-
-impl SamplerKind {
-    /// The default stream (a constant, for the settings' `const` constructors).
-    pub const DEFAULT: Self = SamplerKind::Sobol;
-
-    /// Every sample stream, the default first.
-    pub const ALL: [SamplerKind; 2] = [SamplerKind::Sobol, SamplerKind::Independent];
-
-    /// The stream's name (command line, scene files, charts).
-    pub fn name(self) -> &'static str {
-        match self {
-            SamplerKind::Independent => "independent",
-            SamplerKind::Sobol => "sobol",
-        }
-    }
-
-    /// The stream called `name`.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|k| k.name() == name)
+crate::choices! {
+    /// The closed set of sample streams.
+    pub enum SamplerKind: "sampler" {
+        /// Padded Owen-scrambled Sobol: every 2-D request is a scrambled (0, 2)-sequence.
+        Sobol = "sobol", "padded Owen-scrambled Sobol (stratified)";
+        /// Independent uniform numbers (PCG).
+        Independent = "independent", "independent uniform numbers (PCG)";
     }
 }
 
@@ -643,6 +616,5 @@ mod tests {
             assert_eq!(SamplerKind::from_name(k.name()), Some(k));
         }
         assert_eq!(SamplerKind::from_name("halton"), None);
-        assert_eq!(SamplerKind::ALL[0], SamplerKind::default());
     }
 }

@@ -1,8 +1,7 @@
 //! A scene in fixed-capacity storage: `S` shapes, `L` lights, `M` materials, chosen by the user
 //! of the kernel (a firmware build uses exactly its scene's counts). Every value is validated as
 //! it is added; a full collection is an error, never a panic. The scene builds and answers ray
-//! queries; choosing and sampling lights is the light sampler's job
-//! ([`LightSampler`](crate::light::LightSampler)).
+//! queries; choosing and sampling lights is the light sampler's job (`light/`).
 
 mod ids;
 mod light;
@@ -17,7 +16,6 @@ use heapless::Vec;
 use crate::error::{Collection, SceneError};
 use crate::geometry::{Camera, CameraDesc, Film};
 use crate::geometry::{Ray, Shape, SurfacePoint};
-use crate::light::importance::{LightGeometry, LightTable};
 use crate::num::{Rgb, Vec2, Vec3, dot};
 #[cfg(feature = "fixed")]
 use crate::query::Arith;
@@ -26,7 +24,6 @@ use crate::query::camera_cull::CameraCull;
 #[cfg(feature = "fixed")]
 use crate::query::fixed::FixedScene;
 use crate::query::shadow_cull::{Convex, Sets, ShadowCull};
-use crate::sampling::{GridDistribution, UniformIndex};
 
 /// A shape with its material and, if it emits, its light.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,12 +75,6 @@ pub struct Scene<const S: usize, const L: usize, const M: usize> {
     shadow_cull: ShadowCull<S, L>,
     materials: Vec<Material, M>,
     lights: Vec<Light, L>,
-    /// Each light's terms of its cone seen from a point (selection by contribution).
-    light_geometry: LightTable<L>,
-    light_power: Vec<f32, L>,
-    power_selection: GridDistribution<L>,
-    /// Every light equally likely.
-    uniform_selection: UniformIndex,
     /// The fixed-point copies of the shapes while the ray queries run in fixed point
     /// ([`Scene::enable_arith`]; empty otherwise), filled in place.
     #[cfg(feature = "fixed")]
@@ -134,10 +125,6 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
             packets: Packets::default(),
             materials: Vec::new(),
             lights: Vec::new(),
-            light_geometry: LightTable::default(),
-            light_power: Vec::new(),
-            power_selection: GridDistribution::default(),
-            uniform_selection: UniformIndex::new(0),
             #[cfg(feature = "fixed")]
             fixed: FixedScene::off(),
         })
@@ -196,8 +183,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         if object.light.is_some() {
             return Err(SceneError::AlreadyEmitting);
         }
-        let power = light.power(Some(&object.shape));
-        let id = self.push_light(light, LightGeometry::new(&light, Some(&object.shape)), power)?;
+        let id = self.push_light(light)?;
         if let Some(object) = self.objects.get_mut(shape.index()) {
             object.light = Some(id);
         }
@@ -208,22 +194,13 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// Adds a point light of radiant `intensity` at `position`.
     pub fn add_point_light(&mut self, position: Vec3, intensity: Rgb) -> Result<LightId, SceneError> {
         let light = Light::point(position, intensity)?;
-        self.push_light(light, LightGeometry::new(&light, None), light.power(None))
+        self.push_light(light)
     }
 
-    fn push_light(
-        &mut self,
-        light: Light,
-        geometry: LightGeometry,
-        power: f32,
-    ) -> Result<LightId, SceneError> {
+    fn push_light(&mut self, light: Light) -> Result<LightId, SceneError> {
         let id = index16(self.lights.len(), Collection::Lights)?;
         let full = SceneError::CapacityExceeded(Collection::Lights);
         self.lights.push(light).map_err(|_| full)?;
-        self.light_geometry.push(geometry).map_err(|_| full)?;
-        self.light_power.push(power).map_err(|_| full)?;
-        self.power_selection = GridDistribution::new(&self.light_power);
-        self.uniform_selection = UniformIndex::new(self.lights.len());
         self.shadow_cull
             .add_light(usize::from(id), &SceneSets { objects: &self.objects, lights: &self.lights });
         Ok(LightId::new(id))
@@ -281,11 +258,6 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     pub fn lights(&self) -> &[Light] {
         &self.lights
     }
-    /// Each light's geometry as its cone needs it, in the order of [`Scene::lights`].
-    #[inline]
-    pub fn light_geometry(&self) -> &LightTable<L> {
-        &self.light_geometry
-    }
     /// All materials.
     pub fn materials(&self) -> &[Material] {
         &self.materials
@@ -295,18 +267,6 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     #[inline]
     pub fn light(&self, light: LightId) -> Option<&Light> {
         self.lights.get(light.index())
-    }
-
-    /// Each light's share of the emitted power, as light selection by power draws it.
-    #[inline]
-    pub fn light_powers(&self) -> &GridDistribution<L> {
-        &self.power_selection
-    }
-
-    /// Every light equally likely, as uniform light selection draws them.
-    #[inline]
-    pub fn light_uniform(&self) -> &UniformIndex {
-        &self.uniform_selection
     }
 
     /// The material of object `object`.
@@ -327,9 +287,15 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     #[inline]
     pub fn light_shape(&self, light: &Light) -> Option<&Shape> {
         match light {
-            Light::Area { shape, .. } => self.objects.get(shape.index()).map(|o| &o.shape),
+            Light::Area { shape, .. } => self.shape(*shape),
             Light::Point { .. } => None,
         }
+    }
+
+    /// Shape `shape`.
+    #[inline]
+    pub fn shape(&self, shape: ShapeId) -> Option<&Shape> {
+        self.objects.get(shape.index()).map(|o| &o.shape)
     }
 
     /// The nearest hit in `(t_min, t_max)`, ignoring object `skip`.

@@ -1,0 +1,150 @@
+//! How points on quad lights are drawn: a strategy type per way ([`QuadSampler`]).
+
+use crate::geometry::{Rectangle, Shape};
+use crate::light::sample::{LightSample, ShadingPoint};
+use crate::num::{Vec2, Vec3, sqrt};
+use crate::sampling::{
+    SphericalRectangle, bilinear_pdf, invert_spherical_rectangle_sample, sample_bilinear,
+    sample_spherical_rectangle, spherical_rectangle, spherical_rectangle_cosines, spherical_rectangle_pdf,
+};
+
+crate::choices! {
+    /// How points on quad lights are drawn.
+    pub enum QuadSampling: "quad sampling" {
+        /// Uniformly by area, converted to solid angle ([`ByArea`]).
+        Area = "area", "uniformly by area";
+        /// Uniformly in the solid angle the quad subtends ([`SolidAngle`]).
+        SolidAngle = "solid-angle", "uniformly in solid angle (spherical rectangles; by area where unstable)";
+        /// In solid angle, warped by the receiver's cosine ([`SolidAngleCosine`]).
+        SolidAngleCosine = "solid-angle-cosine", "in solid angle, warped by the receiver's cosine (Hart et al. 2020)";
+    }
+}
+
+/// A way of drawing points on quad lights. Where a quad is not sampled this way
+/// ([`QuadSampler::seen`] is `None`), it is sampled uniformly by area, like any shape.
+pub trait QuadSampler: Sync + 'static {
+    /// Its name among the settings.
+    const KIND: QuadSampling;
+
+    /// The quad `shape` seen from `x`, where this strategy samples it: decided by the setup
+    /// alone, so that a sample and the pdf of any direction take the same way.
+    fn seen(shape: &Shape, x: Vec3) -> Option<(Rectangle, SphericalRectangle)>;
+
+    /// A direction to the rectangle `rect` (seen as `sr`) from a receiver with unit normal `n`;
+    /// radiance and emitter are left for the caller.
+    fn sample(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3, u: Vec2) -> Option<LightSample>;
+
+    /// The pdf with which [`QuadSampler::sample`] reaches the point `y` of the rectangle from
+    /// the shading point `at`.
+    fn pdf(rect: &Rectangle, sr: &SphericalRectangle, at: &ShadingPoint, y: Vec3) -> f32;
+}
+
+/// Quad lights by area, like any shape.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ByArea;
+
+impl QuadSampler for ByArea {
+    const KIND: QuadSampling = QuadSampling::Area;
+
+    #[inline(always)]
+    fn seen(_: &Shape, _: Vec3) -> Option<(Rectangle, SphericalRectangle)> {
+        None
+    }
+
+    #[inline(always)]
+    fn sample(_: &Rectangle, _: &SphericalRectangle, _: Vec3, _: Vec2) -> Option<LightSample> {
+        None
+    }
+
+    #[inline(always)]
+    fn pdf(_: &Rectangle, _: &SphericalRectangle, _: &ShadingPoint, _: Vec3) -> f32 {
+        0.0
+    }
+}
+
+/// Rectangular quad lights uniformly in the solid angle they subtend (spherical rectangles,
+/// Ureña et al. 2013); by area for quads that are not rectangles and where f32 cannot resolve
+/// the solid angle (tiny or grazing rectangles, see [`spherical_rectangle`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SolidAngle;
+
+impl QuadSampler for SolidAngle {
+    const KIND: QuadSampling = QuadSampling::SolidAngle;
+
+    #[inline]
+    fn seen(shape: &Shape, x: Vec3) -> Option<(Rectangle, SphericalRectangle)> {
+        rectangle_in_solid_angle(shape, x)
+    }
+
+    #[inline]
+    fn sample(rect: &Rectangle, sr: &SphericalRectangle, _: Vec3, u: Vec2) -> Option<LightSample> {
+        toward_rectangle(rect, sr, u, None)
+    }
+
+    #[inline]
+    fn pdf(_: &Rectangle, sr: &SphericalRectangle, _: &ShadingPoint, _: Vec3) -> f32 {
+        spherical_rectangle_pdf(sr)
+    }
+}
+
+/// As [`SolidAngle`], with the 2-D sample first warped towards the receiver's cosine (Hart et
+/// al. 2020, as pbrt-v4 does for rectangles): a bilinear density whose corner values are the
+/// cosines towards the rectangle's corners ([`spherical_rectangle_cosines`]); the pdf is the
+/// spherical rectangle's times the bilinear one.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SolidAngleCosine;
+
+impl QuadSampler for SolidAngleCosine {
+    const KIND: QuadSampling = QuadSampling::SolidAngleCosine;
+
+    #[inline]
+    fn seen(shape: &Shape, x: Vec3) -> Option<(Rectangle, SphericalRectangle)> {
+        rectangle_in_solid_angle(shape, x)
+    }
+
+    #[inline]
+    fn sample(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3, u: Vec2) -> Option<LightSample> {
+        let w = cosine_weights(rect, sr, n);
+        let v = sample_bilinear(u, w);
+        toward_rectangle(rect, sr, v, Some(bilinear_pdf(v, w)))
+    }
+
+    #[inline(never)]
+    fn pdf(rect: &Rectangle, sr: &SphericalRectangle, at: &ShadingPoint, y: Vec3) -> f32 {
+        let v = y - at.p;
+        let local = Vec3::new(v.dot(rect.ex), v.dot(rect.ey), v.dot(rect.n));
+        spherical_rectangle_pdf(sr)
+            * bilinear_pdf(invert_spherical_rectangle_sample(sr, local), cosine_weights(rect, sr, at.n))
+    }
+}
+
+/// The spherical rectangle a rectangular quad subtends at `x`, where f32 can resolve it.
+#[inline]
+fn rectangle_in_solid_angle(shape: &Shape, x: Vec3) -> Option<(Rectangle, SphericalRectangle)> {
+    let rect = shape.as_rectangle()?;
+    let d = rect.p0 - x;
+    let corner = Vec3::new(d.dot(rect.ex), d.dot(rect.ey), d.dot(rect.n));
+    Some((rect, spherical_rectangle(corner, rect.lengths.x, rect.lengths.y)?))
+}
+
+/// The corner weights of the cosine warp for a receiver with unit normal `n` (world).
+#[inline]
+fn cosine_weights(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3) -> [f32; 4] {
+    spherical_rectangle_cosines(sr, Vec3::new(n.dot(rect.ex), n.dot(rect.ey), n.dot(rect.n)))
+}
+
+/// The direction to the rectangle `rect` (seen as `sr`) at the sample `u` of the spherical
+/// rectangle, with its pdf in solid angle times the pdf `warp` of a warp of `u`, if any. Out of
+/// line: one copy in the firmware.
+#[inline(never)]
+fn toward_rectangle(rect: &Rectangle, sr: &SphericalRectangle, u: Vec2, warp: Option<f32>) -> Option<LightSample> {
+    let local = sample_spherical_rectangle(sr, u)?;
+    let distance = sqrt(local.length_squared());
+    let wi = (rect.ex * local.x + rect.ey * local.y + rect.n * local.z) / distance;
+    let pdf = spherical_rectangle_pdf(sr);
+    let pdf = match warp {
+        Some(w) => pdf * w,
+        None => pdf,
+    };
+    (distance > 0.0 && pdf.is_finite()).then_some(LightSample::towards(wi, distance, pdf))
+}

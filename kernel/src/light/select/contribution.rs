@@ -1,0 +1,107 @@
+//! Lights in proportion to their estimated contribution at the shading point.
+
+use crate::light::sample::{LightChoice, ShadingPoint};
+use crate::light::select::importance::{LightGeometry, LightTable, Receiver, weighs_bsdf};
+use crate::light::select::{LightSelection, Select, Uniform, choice};
+use crate::num::Frame;
+use crate::sampling::GridDistribution;
+use crate::scene::{LightId, Outgoing, Scene};
+
+/// The share of the BSDF-free importance in light selection by contribution: every light that
+/// can send light to the shading point is chosen with at least this share of its importance's
+/// probability, even where the BSDF toward its centre is zero (a near-mirror GGX lobe that
+/// misses the centre of a light whose edge it sees).
+pub const CONTRIBUTION_FLOOR: f32 = 0.1;
+
+/// Proportional to each light's estimated contribution at the shading point, BSDF included
+/// ([`LightCone::contribution`](crate::light::select::importance::LightCone::contribution)),
+/// mixed with a share [`CONTRIBUTION_FLOOR`] of its BSDF-free importance
+/// ([`LightCone::importance`](crate::light::select::importance::LightCone::importance)) so that
+/// every light that can contribute keeps a non-zero probability (on Lambertian receivers, by the
+/// importance alone); on the grid of the random number like [`ByPower`](crate::light::select::ByPower).
+/// A scene's only light is chosen with probability one (uniformly); a light that certainly sends
+/// nothing to the point is never chosen. Costs O(lights) per shading point.
+#[derive(Clone, Debug)]
+pub struct ByContribution<const L: usize> {
+    /// Each light's terms of its cone seen from a point.
+    lights: LightTable<L>,
+    /// Among fewer than two lights.
+    uniform: Uniform,
+    /// Whether the choice depends on the point: among two lights or more.
+    local: bool,
+}
+
+impl<const L: usize> Select<L> for ByContribution<L> {
+    const KIND: LightSelection = LightSelection::Contribution;
+    const LOCAL: bool = true;
+    /// The lights' probabilities here; empty among fewer than two lights, and where no light can
+    /// contribute.
+    type At = GridDistribution<L>;
+
+    fn new<const S: usize, const M: usize>(scene: &Scene<S, L, M>) -> Self {
+        let mut lights = LightTable::default();
+        for light in scene.lights() {
+            // At most L lights: every push fits.
+            let _ = lights.push(LightGeometry::new(light, scene.light_shape(light)));
+        }
+        let n = scene.lights().len();
+        ByContribution { lights, uniform: Uniform::among(n), local: n > 1 }
+    }
+
+    #[inline]
+    fn at(&self, point: &ShadingPoint, frame: &Frame, seen: &Outgoing) -> GridDistribution<L> {
+        if !self.local {
+            return GridDistribution::default();
+        }
+        self.weights(point, frame, seen)
+    }
+
+    #[inline]
+    fn select(&self, at: &GridDistribution<L>, bits: u32) -> Option<(LightChoice, f32)> {
+        if !self.local {
+            return <Uniform as Select<L>>::select(&self.uniform, &(), bits);
+        }
+        at.sample_reusing(bits).map(choice)
+    }
+
+    #[inline]
+    fn pmf(&self, at: &GridDistribution<L>, light: LightId) -> f32 {
+        if !self.local {
+            return <Uniform as Select<L>>::pmf(&self.uniform, &(), light);
+        }
+        at.pmf(light.index())
+    }
+}
+
+impl<const L: usize> ByContribution<L> {
+    /// The mixture of the lights' contributions and importances at `point`. Out of line: the
+    /// code around it stays small.
+    #[inline(never)]
+    fn weights(&self, point: &ShadingPoint, frame: &Frame, seen: &Outgoing) -> GridDistribution<L> {
+        let n = self.lights.geometry().len().min(L);
+        // The BSDF's part, if it has one: in the receiver's frame.
+        let receiver = weighs_bsdf(&point.bsdf).then(|| Receiver::new(seen, frame));
+        let (mut importance, mut contribution) = ([0.0f32; L], [0.0f32; L]);
+        self.lights.weights(point.p, point.n, receiver.as_ref(), |k, i, c| {
+            if let (Some(slot), Some(slot_c)) = (importance.get_mut(k), contribution.get_mut(k)) {
+                *slot = i;
+                *slot_c = c;
+            }
+        });
+        let importance = &mut importance[..n];
+        if receiver.is_some() {
+            // The mixture (1 - floor) c_k / sum c + floor i_k / sum i, each part where it has a sum.
+            let sum = |w: &[f32]| w.iter().sum::<f32>();
+            let (total_i, total_c) = (sum(importance), sum(&contribution[..n]));
+            let (scale_i, scale_c) = match (total_i > 0.0, total_c > 0.0) {
+                (true, true) => (CONTRIBUTION_FLOOR / total_i, (1.0 - CONTRIBUTION_FLOOR) / total_c),
+                (false, true) => (0.0, 1.0),
+                (_, false) => (1.0, 0.0),
+            };
+            for (i, c) in importance.iter_mut().zip(&contribution) {
+                *i = *i * scale_i + *c * scale_c;
+            }
+        }
+        GridDistribution::new(importance)
+    }
+}
