@@ -8,7 +8,7 @@ use core::ptr;
 use embedded_graphics::prelude::*;
 use picomis::{Film, RenderSettings, RenderStats};
 
-use crate::board::{FB_BYTES, Fb, config, scene};
+use crate::board::{FB_BYTES, Fb, IntegratorT, config, scene};
 use crate::status;
 use crate::{arch, clock, stack};
 
@@ -38,11 +38,22 @@ fn fnv1a(data: &[u8]) -> u32 {
     data.iter().fold(0x811c_9dc5u32, |h, &b| (h ^ u32::from(b)).wrapping_mul(0x0100_0193))
 }
 
-/// The render settings: the scene file's, with the build's sample count and seed. A `static`
-/// evaluated at compile time, so that the render code sees every setting as a constant and the
-/// compiler drops the branches of the methods, models and streams it does not use (on the M4F
-/// 2,064 -> 1,868 instructions per camera sample, the same bits).
-static SETTINGS: Result<RenderSettings, picomis::SceneError> = settings();
+/// The render settings: the scene file's, with the build's sample count and seed, as
+/// constants: the estimator reads them from here (`ConstSettings`), so the compiler folds every
+/// setting into the code and drops the branches of the methods, models and streams it does not
+/// use (on the M4F 2,064 -> 1,868 instructions per camera sample, the same bits).
+pub struct Settings;
+
+impl picomis::integrator::ConstSettings for Settings {
+    const SETTINGS: RenderSettings = match settings() {
+        Ok(s) => s,
+        // build.rs checked the scene file, the sample count and the seed.
+        Err(_) => panic!("the scene file's integrator block or PICOMIS_SPP is invalid"),
+    };
+}
+
+/// The settings, in flash.
+static SETTINGS: RenderSettings = <Settings as picomis::integrator::ConstSettings>::SETTINGS;
 
 const fn settings() -> Result<RenderSettings, picomis::SceneError> {
     let s = match scene::settings() {
@@ -115,15 +126,7 @@ fn run() -> u32 {
             return status::SCENE;
         }
     };
-    let settings = match &SETTINGS {
-        Ok(s) => s,
-        Err(_e) => {
-            info!("error: render settings rejected");
-            #[cfg(feature = "rtt")]
-            defmt::println!("settings error: {}", _e);
-            return status::SETTINGS;
-        }
-    };
+    let settings = &SETTINGS;
     info!(
         "film {}x{}, {} spp, seed {}, {} shapes, {} lights, {} materials, tiles {}x{}",
         config::WIDTH,
@@ -138,6 +141,10 @@ fn run() -> u32 {
     );
     #[cfg(feature = "rtt")]
     defmt::println!("settings: {}", settings);
+    let Ok(integrator) = IntegratorT::new(scene, settings) else {
+        info!("error: the settings do not name the strategies the firmware was built with");
+        return status::SETTINGS;
+    };
 
     // Peak stack of the scene build, then start over for the render and what follows.
     let (build_peak, _) = stack::peak();
@@ -152,7 +159,7 @@ fn run() -> u32 {
     let fb: &mut Fb = unsafe { &mut *ptr::addr_of_mut!(FRAMEBUFFER) };
     let start = clock::ticks();
     let tile = Size::new(config::TILE, config::TILE);
-    let Ok(stats) = picomis::render(scene, settings, tile, fb, |area, total: &RenderStats| {
+    let Ok(stats) = integrator.render(tile, fb, |area, total: &RenderStats| {
         let right = area.top_left.x as u32 + area.size.width;
         if right >= config::WIDTH {
             let bottom = area.top_left.y as u32 + area.size.height;
@@ -185,10 +192,10 @@ fn run() -> u32 {
     }
 
     #[cfg(feature = "qemu")]
-    crate::digest::report(scene, settings);
+    crate::digest::report(&integrator);
 
     #[cfg(feature = "measure")]
-    crate::measure::run(scene, settings, fb);
+    crate::measure::run(&integrator, fb);
 
     let (render_peak, size) = stack::peak();
     info!(

@@ -22,3 +22,12 @@ pub const FB_BYTES: usize = buffer_size::<Rgb565>(config::W, config::H);
 
 /// An Rgb565 framebuffer as an SPI display takes it (little-endian 16-bit pixels, row-major).
 pub type Fb = Framebuffer<Rgb565, RawU16, LittleEndian, { config::W }, { config::H }, FB_BYTES>;
+
+/// The estimator of the scene with the strategies its integrator block names (and no others).
+pub type IntegratorT<'a> = picomis::Integrator<
+    'a,
+    scene::Strategies<crate::app::Settings>,
+    { scene::SHAPES },
+    { scene::LIGHTS },
+    { scene::MATERIALS },
+>;

@@ -4,12 +4,10 @@
 //! a second time, after the framebuffer render; the instruction counts of `measure` time their
 //! own loops and do not include it, and board builds (without `qemu`) leave it out.
 
-use picomis::RenderSettings;
-
-use crate::board::scene::SceneT;
+use crate::board::IntegratorT;
 
 /// Renders every pixel's estimate again and logs the digest.
-pub fn report(scene: &SceneT, settings: &RenderSettings) {
-    let digest = picomis::render_digest(scene, settings);
+pub fn report(integrator: &IntegratorT<'_>) {
+    let digest = picomis::render_digest(integrator);
     info!("hdr-digest {}", digest);
 }

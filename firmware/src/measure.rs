@@ -7,12 +7,10 @@
 
 use core::hint::black_box;
 
+use crate::board::{Fb, IntegratorT, config};
+use crate::clock;
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
-use picomis::RenderSettings;
-
-use crate::board::{Fb, config, scene::SceneT};
-use crate::clock;
 
 use crate::arch::{SPIN_INSTRUCTIONS, spin};
 
@@ -36,7 +34,8 @@ fn per(what: &str, num: u64, den: u64) {
     info!("measure: {} {}.{} instructions ({} / {})", what, tenths / 10, tenths % 10, num, den);
 }
 
-pub fn run(scene: &SceneT, settings: &RenderSettings, fb: &mut Fb) {
+pub fn run(integrator: &IntegratorT<'_>, fb: &mut Fb) {
+    let (scene, settings) = (integrator.scene(), integrator.settings());
     let cal_ticks = time(|| spin(black_box(CALIBRATION_LOOPS)));
     let cal = (SPIN_INSTRUCTIONS * u64::from(CALIBRATION_LOOPS), cal_ticks.max(1));
     info!(
@@ -66,7 +65,7 @@ pub fn run(scene: &SceneT, settings: &RenderSettings, fb: &mut Fb) {
             for y in 0..h {
                 for x in 0..w {
                     for s in 0..spp {
-                        black_box(picomis::camera_sample(scene, settings, x, y, s));
+                        black_box(integrator.camera_sample(x, y, s));
                     }
                 }
             }
@@ -81,12 +80,12 @@ pub fn run(scene: &SceneT, settings: &RenderSettings, fb: &mut Fb) {
     let empty = Rectangle::new(Point::zero(), Size::zero());
     let base = time(|| {
         for _ in 0..repeat {
-            let _ = picomis::render_tile(scene, settings, black_box(&empty), fb);
+            let _ = integrator.render_tile(black_box(&empty), fb);
         }
     });
     let full = time(|| {
         for _ in 0..repeat {
-            let _ = picomis::render_tile(scene, settings, black_box(&area), fb);
+            let _ = integrator.render_tile(black_box(&area), fb);
         }
     });
     let tile_instr = instructions(full.saturating_sub(base), cal);

@@ -42,7 +42,8 @@ pub fn firmware_settings(s: &SceneFile) -> RenderSettings {
     let quads = if lights.quads { settings.quad_sampling() } else { QuadSampling::Area };
     let spheres = if lights.spheres { settings.sphere_sampling() } else { SphereSampling::Area };
     let lobe = if materials.ggx && area_lights { settings.lobe_mixing() } else { LobeMixing::Off };
-    let cv = if materials.lambertian && area_lights { settings.control_variate() } else { ControlVariate::Off };
+    let cv =
+        if materials.lambertian && area_lights { settings.control_variate() } else { ControlVariate::Off };
     let s = settings
         .with_light_selection(selection)
         .with_quad_sampling(quads)
@@ -52,27 +53,21 @@ pub fn firmware_settings(s: &SceneFile) -> RenderSettings {
 }
 
 /// The firmware's settings (`settings()`, a `const fn`: the render sees every setting as a
-/// constant) and strategies (`Strategies`, the types [`firmware_settings`] names, with the
-/// method as a constant, `SceneMethod`).
+/// constant) and strategies (`Strategies<C>`, the types [`firmware_settings`] names).
 fn strategies(o: &mut String, s: &SceneFile) {
     let settings = firmware_settings(s);
     let m = settings.method();
     let (n_light, n_bsdf) = settings.sample_counts();
     let lights = s.counts().lights;
     let path = |p: &str| p.replace("<L>", &format!("<{lights}>"));
-    let _ = writeln!(o, "/// The method of the file, as a constant.");
-    let _ = writeln!(o, "pub struct SceneMethod;");
-    let _ = writeln!(o, "impl picomis::integrator::ConstMethod for SceneMethod {{");
     let _ = writeln!(
         o,
-        "    const METHOD: Method = match {} {{ Ok(m) => m, Err(_) => panic!(\"invalid method\") }};",
-        method(m)
+        "/// The strategies of the file's integrator block that this scene uses, with the settings read\n\
+         /// from `C` (a `picomis::integrator::ConstSettings` type: every setting a constant)."
     );
-    let _ = writeln!(o, "}}");
-    let _ = writeln!(o, "/// The strategies of the file's integrator block that this scene uses.");
     let _ = writeln!(
         o,
-        "pub type Strategies = picomis::Direct<picomis::Lights<{}, {}, {}, {}>, {}, {}, SceneMethod>;",
+        "pub type Strategies<C> = picomis::Direct<picomis::Lights<{}, {}, {}, {}>, {}, {}, C>;",
         path(type_paths::selection(settings.light_selection())),
         path(type_paths::spheres(settings.sphere_sampling())),
         path(type_paths::quads(settings.quad_sampling())),
@@ -80,16 +75,15 @@ fn strategies(o: &mut String, s: &SceneFile) {
         path(type_paths::control_variate(settings.control_variate())),
         path(type_paths::model(settings.mis_model())),
     );
-    let _ = writeln!(o, "/// The integrator of the file (1 spp, seed 0), with the strategies of `Strategies`.");
+    let _ =
+        writeln!(o, "/// The integrator of the file (1 spp, seed 0), with the strategies of `Strategies`.");
     let _ = writeln!(o, "pub const fn settings() -> Result<picomis::RenderSettings, picomis::SceneError> {{");
     let _ = writeln!(
         o,
         "    macro_rules! ok {{ ($e:expr) => {{ match $e {{ Ok(v) => v, Err(e) => return Err(e) }} }}; }}"
     );
-    let _ = writeln!(
-        o,
-        "    let s = ok!(picomis::RenderSettings::new(<SceneMethod as picomis::integrator::ConstMethod>::METHOD, {n_light}, {n_bsdf}, 1, 0));"
-    );
+    let _ = writeln!(o, "    let method = ok!({});", method(m));
+    let _ = writeln!(o, "    let s = ok!(picomis::RenderSettings::new(method, {n_light}, {n_bsdf}, 1, 0));");
     let _ = writeln!(
         o,
         "    let s = s.with_sampler(picomis::SamplerKind::{:?}).with_light_selection(picomis::LightSelection::{:?}).with_sphere_sampling(picomis::SphereSampling::{:?}).with_quad_sampling(picomis::QuadSampling::{:?}).with_lobe_mixing(picomis::LobeMixing::{:?});",
@@ -104,7 +98,8 @@ fn strategies(o: &mut String, s: &SceneFile) {
         picomis::MisModel::Multi => "picomis::MisModel::Multi".into(),
     };
     let _ = writeln!(o, "    let s = ok!(s.with_mis_model({model}));");
-    let _ = writeln!(o, "    s.with_control_variate(picomis::ControlVariate::{:?})", settings.control_variate());
+    let _ =
+        writeln!(o, "    s.with_control_variate(picomis::ControlVariate::{:?})", settings.control_variate());
     let _ = writeln!(o, "}}");
 }
 

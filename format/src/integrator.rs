@@ -6,12 +6,12 @@
 
 use std::fmt;
 
-use picomis::choice::{Choice, Names};
 #[cfg(feature = "cli")]
 use picomis::Heuristic;
+use picomis::choice::{Choice, Names};
 use picomis::{
-    ControlVariate, LightSelection, LobeMixing, Method, MisModel, Preset, QuadSampling,
-    RenderSettings, SamplerKind, SphereSampling,
+    ControlVariate, LightSelection, LobeMixing, Method, MisModel, Preset, QuadSampling, RenderSettings,
+    SamplerKind, SphereSampling,
 };
 use serde::{Deserialize, Serialize};
 
@@ -88,7 +88,10 @@ pub struct IntegratorDesc {
     pub mis_model: Option<MisModel>,
     /// Probability of the light technique in the one-sample model, in [0, 1].
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[cfg_attr(feature = "cli", arg(long, value_name = "C", allow_negative_numbers = true, help_heading = "MIS"))]
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "C", allow_negative_numbers = true, help_heading = "MIS")
+    )]
     pub c_light: Option<f32>,
     /// Unoccluded light on Lambertian receivers in closed form, Monte Carlo for the shadows only.
     #[serde(default, with = "choice", skip_serializing_if = "Option::is_none")]
@@ -172,7 +175,10 @@ impl IntegratorDesc {
             _ => KeyError::new("alpha", e),
         })?;
         if let (Some(beta), None) = (self.beta, method.beta()) {
-            return Err(KeyError::new("beta", format!("{beta}: only the power heuristic has a beta (mis is {name})")));
+            return Err(KeyError::new(
+                "beta",
+                format!("{beta}: only the power heuristic has a beta (mis is {name})"),
+            ));
         }
         if let (Some(alpha), None) = (self.alpha, method.alpha()) {
             return Err(KeyError::new(
@@ -181,14 +187,18 @@ impl IntegratorDesc {
             ));
         }
         let (base_light, base_bsdf) = base.sample_counts();
-        let (n_light, n_bsdf) = (self.light_samples.unwrap_or(base_light), self.bsdf_samples.unwrap_or(base_bsdf));
+        let (n_light, n_bsdf) =
+            (self.light_samples.unwrap_or(base_light), self.bsdf_samples.unwrap_or(base_bsdf));
         let settings = RenderSettings::new(method, n_light, n_bsdf, spp, seed).map_err(|e| {
             let key = if spp == 0 { "spp" } else { "light_samples" };
             KeyError::new(key, format!("{e} (mis {name}, {n_light} light and {n_bsdf} BSDF samples)"))
         })?;
         let model = match (self.mis_model.unwrap_or(base.mis_model()), self.c_light) {
             (MisModel::Multi, Some(c)) => {
-                return Err(KeyError::new("c_light", format!("{c}: only the one-sample model (mis_model one) has a c")));
+                return Err(KeyError::new(
+                    "c_light",
+                    format!("{c}: only the one-sample model (mis_model one) has a c"),
+                ));
             }
             (MisModel::Multi, None) => MisModel::Multi,
             (MisModel::One { c_light }, c) => MisModel::One { c_light: c.unwrap_or(c_light) },
@@ -255,8 +265,16 @@ impl IntegratorDesc {
             settings.sphere_sampling() != base.sphere_sampling(),
             settings.sphere_sampling().name().into(),
         );
-        note("quad_sampling", settings.quad_sampling() != base.quad_sampling(), settings.quad_sampling().name().into());
-        note("lobe_mixing", settings.lobe_mixing() != base.lobe_mixing(), settings.lobe_mixing().name().into());
+        note(
+            "quad_sampling",
+            settings.quad_sampling() != base.quad_sampling(),
+            settings.quad_sampling().name().into(),
+        );
+        note(
+            "lobe_mixing",
+            settings.lobe_mixing() != base.lobe_mixing(),
+            settings.lobe_mixing().name().into(),
+        );
         let model = settings.mis_model();
         let model_text = match model {
             MisModel::One { c_light } => format!("one (c_light {c_light})"),
@@ -300,7 +318,8 @@ mod choice {
 #[cfg(feature = "cli")]
 pub fn choice_parser<T: Choice + Send + Sync>() -> impl clap::builder::TypedValueParser<Value = T> {
     use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
-    let names: Vec<PossibleValue> = T::ALL.iter().map(|c| PossibleValue::new(c.name()).help(c.summary())).collect();
+    let names: Vec<PossibleValue> =
+        T::ALL.iter().map(|c| PossibleValue::new(c.name()).help(c.summary())).collect();
     PossibleValuesParser::new(names)
         .try_map(|name| T::from_name(&name).ok_or_else(|| format!("unknown {} {name:?}", T::WHAT)))
 }
@@ -324,7 +343,10 @@ mod tests {
             .unwrap();
         let d = IntegratorDesc::of(&settings);
         let json = serde_json::to_string(&d).unwrap();
-        assert!(json.contains(r#""lobe_mixing":"on""#) && json.contains(r#""light_selection":"contribution""#), "{json}");
+        assert!(
+            json.contains(r#""lobe_mixing":"on""#) && json.contains(r#""light_selection":"contribution""#),
+            "{json}"
+        );
         let back: IntegratorDesc = serde_json::from_str(&json).unwrap();
         assert_eq!(back.settings(1, 0), Ok(settings));
     }
@@ -334,7 +356,10 @@ mod tests {
         let e = desc(r#"{"lobe_mixng": "on"}"#).unwrap_err();
         assert!(e.contains("unknown field `lobe_mixng`") && e.contains("lobe_mixing"), "{e}");
         let e = desc(r#"{"light_selection": "random"}"#).unwrap_err();
-        assert!(e.contains(r#"unknown light selection "random" (expected uniform, power or contribution)"#), "{e}");
+        assert!(
+            e.contains(r#"unknown light selection "random" (expected uniform, power or contribution)"#),
+            "{e}"
+        );
     }
 
     #[test]
@@ -342,9 +367,15 @@ mod tests {
         let file = desc(r#"{"mis": "balance", "lobe_mixing": "on"}"#).unwrap();
         let cli = IntegratorDesc { lobe_mixing: Some(LobeMixing::Off), ..Default::default() };
         let both = cli.over(&file);
-        assert_eq!((both.mis, both.lobe_mixing), (Some(Method::Mis(Heuristic::Balance)), Some(LobeMixing::Off)));
+        assert_eq!(
+            (both.mis, both.lobe_mixing),
+            (Some(Method::Mis(Heuristic::Balance)), Some(LobeMixing::Off))
+        );
         let lecture = IntegratorDesc { preset: Some(Preset::Lecture), ..Default::default() };
-        assert_eq!(lecture.over(&file).settings(4, 1), Ok(Preset::Lecture.settings().with_spp(4).unwrap().with_seed(1)));
+        assert_eq!(
+            lecture.over(&file).settings(4, 1),
+            Ok(Preset::Lecture.settings().with_spp(4).unwrap().with_seed(1))
+        );
     }
 
     #[test]

@@ -25,7 +25,9 @@ pub use codegen::firmware_settings;
 pub use integrator::choice_parser;
 pub use integrator::{IntegratorDesc, IntegratorType, KeyError};
 
-use picomis::{Camera, CameraDesc, Collection, Film, Material, RenderSettings, Rgb, Scene, SceneError, Shape, Vec3};
+use picomis::{
+    Camera, CameraDesc, Collection, Film, Material, RenderSettings, Rgb, Scene, SceneError, Shape, Vec3,
+};
 
 /// Why a scene file could not be loaded: which file, which entry, and why.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -221,7 +223,9 @@ impl SceneFile {
         let mut kinds = LightKinds::default();
         for step in &self.steps {
             match step {
-                Step::Shape { emitter: Some(_), geometry: Geometry::Sphere { .. }, .. } => kinds.spheres = true,
+                Step::Shape { emitter: Some(_), geometry: Geometry::Sphere { .. }, .. } => {
+                    kinds.spheres = true
+                }
                 Step::Shape { emitter: Some(_), geometry: Geometry::Quad(_), .. } => kinds.quads = true,
                 Step::PointLight { .. } => kinds.points = true,
                 _ => {}

@@ -6,8 +6,8 @@
 
 use picomis::integrator::Visit;
 use picomis::{
-    Estimate, Hit, Integrator, Ray, RenderSettings, Sampler, Scene, SceneError, Strategies, TechniqueEstimate, Vec3,
-    dispatch,
+    Estimate, Hit, Integrator, Ray, RenderSettings, Sampler, Scene, SceneError, Strategies,
+    TechniqueEstimate, Vec3, dispatch,
 };
 
 /// The shape capacity of scenes on a host.
@@ -36,10 +36,16 @@ pub trait Renderer: Sync {
     /// Radiance along a ray in direction `dir` whose first hit is `hit`.
     fn shade(&self, hit: Option<Hit>, dir: Vec3, sampler: &mut Sampler) -> Estimate;
     /// Direct lighting at `x` towards `wo`: the light and BSDF techniques' parts.
-    fn estimate_direct(&self, x: &Hit, wo: Vec3, sampler: &mut Sampler) -> (TechniqueEstimate, TechniqueEstimate);
+    fn estimate_direct(
+        &self,
+        x: &Hit,
+        wo: Vec3,
+        sampler: &mut Sampler,
+    ) -> (TechniqueEstimate, TechniqueEstimate);
 }
 
-impl<St: Strategies<L> + 'static, const S: usize, const L: usize, const M: usize> Renderer for Integrator<'_, St, S, L, M>
+impl<St: Strategies<L> + 'static, const S: usize, const L: usize, const M: usize> Renderer
+    for Integrator<'_, St, S, L, M>
 where
     Self: Sync,
 {
@@ -63,23 +69,32 @@ where
     fn shade(&self, hit: Option<Hit>, dir: Vec3, sampler: &mut Sampler) -> Estimate {
         Integrator::shade(self, hit, dir, sampler)
     }
-    fn estimate_direct(&self, x: &Hit, wo: Vec3, sampler: &mut Sampler) -> (TechniqueEstimate, TechniqueEstimate) {
+    fn estimate_direct(
+        &self,
+        x: &Hit,
+        wo: Vec3,
+        sampler: &mut Sampler,
+    ) -> (TechniqueEstimate, TechniqueEstimate) {
         Integrator::estimate_direct(self, x, wo, sampler)
     }
 }
 
 /// The estimator of `scene` with `settings`, monomorphised for the strategies they name.
-pub fn renderer<'a>(scene: &'a HostScene, settings: &RenderSettings) -> Result<Box<dyn Renderer + 'a>, SceneError> {
+pub fn renderer<'a>(
+    scene: &'a HostScene,
+    settings: &'a RenderSettings,
+) -> Result<Box<dyn Renderer + 'a>, SceneError> {
     struct Build<'a> {
         scene: &'a HostScene,
-        settings: RenderSettings,
+        settings: &'a RenderSettings,
     }
     impl<'a> Visit<HOST_LIGHTS> for Build<'a> {
         type Output = Result<Box<dyn Renderer + 'a>, SceneError>;
         fn visit<St: Strategies<HOST_LIGHTS> + 'static>(self) -> Self::Output {
-            let it = Integrator::<St, HOST_SHAPES, HOST_LIGHTS, HOST_MATERIALS>::new(self.scene, &self.settings)?;
+            let it =
+                Integrator::<St, HOST_SHAPES, HOST_LIGHTS, HOST_MATERIALS>::new(self.scene, self.settings)?;
             Ok(Box::new(it))
         }
     }
-    dispatch(settings, Build { scene, settings: *settings })
+    dispatch(settings, Build { scene, settings })
 }

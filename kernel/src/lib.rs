@@ -70,4 +70,6 @@ pub use num::{Rgb, Vec2, Vec3};
 pub use output::{Digest, RenderStats, film_rect, render_digest, tiles, tone_map};
 pub use query::Arith;
 pub use sampling::{Sampler, SamplerKind};
-pub use scene::{BsdfSample, Emission, Hit, Light, LightId, MAX_EMISSION, Material, MaterialId, Object, Scene, ShapeId};
+pub use scene::{
+    BsdfSample, Emission, Hit, Light, LightId, MAX_EMISSION, Material, MaterialId, Object, Scene, ShapeId,
+};

@@ -14,9 +14,9 @@ use crate::geometry::Ray;
 use crate::integrator::closed_form;
 use crate::integrator::control_variate::ControlVariateStrategy;
 use crate::integrator::estimate::{Estimate, TechniqueEstimate};
-use crate::integrator::mis::{Method, Technique, Weighting};
+use crate::integrator::mis::{Method, Technique};
 use crate::integrator::model::Model;
-use crate::integrator::settings::RenderSettings;
+use crate::integrator::settings::{RenderSettings, SettingsSource};
 use crate::integrator::strategies::Strategies;
 use crate::light::{LightSampler, LightStrategies, Select, SelectionAt, ShadingPoint};
 use crate::num::{Frame, Rgb, Vec3};
@@ -27,7 +27,9 @@ use crate::scene::{Hit, Light, LightId, Material, Outgoing, Scene};
 /// The estimator for one scene, one render's settings and their strategies `St`.
 pub struct Integrator<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> {
     scene: &'a Scene<S, L, M>,
-    settings: RenderSettings,
+    /// By reference: a firmware's settings are a `static` whose values the compiler folds into
+    /// the code (the loops over sample counts, the sample stream), which a copy would hide.
+    settings: &'a RenderSettings,
     lights: LightSampler<'a, St::Lights, S, L, M>,
 }
 
@@ -38,9 +40,9 @@ type Lights<'a, St, const S: usize, const L: usize, const M: usize> =
 impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Integrator<'a, St, S, L, M> {
     /// The estimator of `scene` with `settings`, which must name the strategies `St`
     /// ([`SceneError::StrategyMismatch`] otherwise). Light selection's tables are built here.
-    pub fn new(scene: &'a Scene<S, L, M>, settings: &RenderSettings) -> Result<Self, SceneError> {
+    pub fn new(scene: &'a Scene<S, L, M>, settings: &'a RenderSettings) -> Result<Self, SceneError> {
         St::check(settings)?;
-        Ok(Self { scene, settings: *settings, lights: LightSampler::new(scene) })
+        Ok(Self { scene, settings, lights: LightSampler::new(scene) })
     }
 
     /// The scene.
@@ -49,10 +51,10 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
         self.scene
     }
 
-    /// The settings.
-    #[inline]
-    pub fn settings(&self) -> &RenderSettings {
-        &self.settings
+    /// The settings (those it was built with, or the strategies' constant ones: the same values).
+    #[inline(always)]
+    pub fn settings(&self) -> RenderSettings {
+        St::Settings::settings(self.settings)
     }
 
     /// The light sampler.
@@ -64,7 +66,7 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
     /// The combination method.
     #[inline(always)]
     fn method(&self) -> Method {
-        St::Weights::method(self.settings.method())
+        self.settings().method()
     }
 
     /// Radiance arriving along a camera ray: emission of the first hit plus its direct lighting.
@@ -97,7 +99,12 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
     /// gets the unoccluded light of every quad and sphere light in closed form, in the light
     /// part, and the techniques sample only f (V - 1) for those lights.
     #[inline]
-    pub fn estimate_direct(&self, x: &Hit, wo: Vec3, sampler: &mut Sampler) -> (TechniqueEstimate, TechniqueEstimate) {
+    pub fn estimate_direct(
+        &self,
+        x: &Hit,
+        wo: Vec3,
+        sampler: &mut Sampler,
+    ) -> (TechniqueEstimate, TechniqueEstimate) {
         let none = (TechniqueEstimate::default(), TechniqueEstimate::default());
         // On the microcontrollers not through `shading`, whose `Option` cost a copy of the
         // struct on the M4F (some 100 instructions). On x86 the other way round: that struct
@@ -134,22 +141,24 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
         sampler: &mut Sampler,
     ) -> (TechniqueEstimate, TechniqueEstimate) {
         let (mut by_light, mut by_bsdf) = (TechniqueEstimate::default(), TechniqueEstimate::default());
-        let method = self.method();
-        let (n_l, n_b) = self.settings.technique_samples();
+        let (n_l, n_b) = self.settings().technique_samples();
         let (n_light, n_bsdf) = (f32::from(n_l), f32::from(n_b));
         // Shadow and BSDF rays all start at x: what their tests need of x alone, computed once.
         at.with_rays(self.scene, |from_x| {
             // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
             for _ in 0..n_l {
                 if let Some(s) = self.light_sample(at, from_x, sampler) {
-                    add_light_sample(&mut by_light, method, &s, n_light, n_bsdf);
+                    add_light_sample(&mut by_light, self.method(), &s, n_light, n_bsdf);
                 }
             }
 
             // Technique 2, BSDF sampling: wi ~ p_b, trace; if a light's front side is hit,
             // w_b L_e f cos / (n_b p_b), with p_l evaluated for the light that was hit.
             for _ in 0..n_b {
-                self.bsdf_sample(at, from_x, sampler, |s| add_bsdf_sample(&mut by_bsdf, method, &s, n_light, n_bsdf));
+                // (The method is read in here, not captured: a constant method stays a constant.)
+                self.bsdf_sample(at, from_x, sampler, |s| {
+                    add_bsdf_sample(&mut by_bsdf, self.method(), &s, n_light, n_bsdf)
+                });
             }
         });
         (by_light, by_bsdf)
@@ -166,17 +175,18 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
         sampler: &mut Sampler,
     ) -> (TechniqueEstimate, TechniqueEstimate) {
         let (mut by_light, mut by_bsdf) = (TechniqueEstimate::default(), TechniqueEstimate::default());
-        let method = self.method();
-        let c_light = self.settings.c_light();
+        let c_light = self.settings().c_light();
         let c_bsdf = 1.0 - c_light;
         // The multi-sample formulas with n_i replaced by c_i, for one sample of one technique.
         at.with_rays(self.scene, |from_x| {
             if sampler.next_f32() < c_light {
                 if let Some(s) = self.light_sample(at, from_x, sampler) {
-                    add_light_sample(&mut by_light, method, &s, c_light, c_bsdf);
+                    add_light_sample(&mut by_light, self.method(), &s, c_light, c_bsdf);
                 }
             } else {
-                self.bsdf_sample(at, from_x, sampler, |s| add_bsdf_sample(&mut by_bsdf, method, &s, c_light, c_bsdf));
+                self.bsdf_sample(at, from_x, sampler, |s| {
+                    add_bsdf_sample(&mut by_bsdf, self.method(), &s, c_light, c_bsdf)
+                });
             }
         });
         (by_light, by_bsdf)
@@ -185,7 +195,12 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
     /// One light sample: a light and a point on it, f L_e, with V (or V - 1 for a light in
     /// closed form); `None` when it carries nothing.
     #[inline]
-    fn light_sample(&self, at: &Shading<'_, St, L>, from_x: &PointRays<S>, sampler: &mut Sampler) -> Option<Found> {
+    fn light_sample(
+        &self,
+        at: &Shading<'_, St, L>,
+        from_x: &PointRays<S>,
+        sampler: &mut Sampler,
+    ) -> Option<Found> {
         // One 2-D request: its first number chooses the light and, rescaled, places the point.
         let (u_select, v) = sampler.next_2d_reusable();
         let (chosen, u) = self.lights.select_reusing(&at.selection, u_select)?;
@@ -197,8 +212,14 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
         if f == Rgb::ZERO || ls.radiance == Rgb::ZERO {
             return None;
         }
-        let visible =
-            self.scene.unoccluded_from(from_x, ls.wi, ls.distance, at.x.object, ls.emitter, Some(chosen.light));
+        let visible = self.scene.unoccluded_from(
+            from_x,
+            ls.wi,
+            ls.distance,
+            at.x.object,
+            ls.emitter,
+            Some(chosen.light),
+        );
         let value = match (at.analytic(chosen.light), visible) {
             (false, true) => f * ls.radiance,
             (true, false) => -(f * ls.radiance),
@@ -236,7 +257,8 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
             self.lights.pmf(&at.selection, light) * self.lights.pdf(light, &at.point, &y.point)
         };
         if !at.control_variate {
-            let Some((y, light, radiance)) = self.scene.emitter_hit_from::<true>(from_x, wi, at.x.object) else {
+            let Some((y, light, radiance)) = self.scene.emitter_hit_from::<true>(from_x, wi, at.x.object)
+            else {
                 return;
             };
             if radiance == Rgb::ZERO {
@@ -265,7 +287,8 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
 /// model). A delta light cannot be hit by a BSDF sample: its weight is one.
 #[inline]
 fn add_light_sample(to: &mut TechniqueEstimate, method: Method, s: &Found, m_light: f32, m_bsdf: f32) {
-    let w = if s.delta { 1.0 } else { method.weight(Technique::Light, m_light * s.pdf, m_bsdf * s.pdf_other) };
+    let w =
+        if s.delta { 1.0 } else { method.weight(Technique::Light, m_light * s.pdf, m_bsdf * s.pdf_other) };
     to.add(s.value * (w / (m_light * s.pdf)), w);
 }
 
@@ -291,15 +314,20 @@ macro_rules! shading {
         // lent to the out-of-line selection, `point` itself would be built apart and copied into
         // the struct after (some 100 instructions per shading point on the M4F). The other
         // selections take no copy (6 instructions on the M4F), nor does x86, where it would cost.
-        let selection = if cfg!(target_os = "none") && <<St::Lights as LightStrategies<L>>::Selection as Select<L>>::LOCAL {
+        let selection = if cfg!(target_os = "none")
+            && <<St::Lights as LightStrategies<L>>::Selection as Select<L>>::LOCAL
+        {
             let copy = point;
             it.lights.selection_in(&copy, &frame, &seen)
         } else {
             it.lights.selection_in(&point, &frame, &seen)
         };
         let control_variate = St::ControlVariate::ON && matches!(bsdf, Material::Lambertian { .. });
-        let (covered, unoccluded) =
-            if control_variate { closed_form::unoccluded_light(it.scene, bsdf, x, wo.z) } else { (0, Rgb::ZERO) };
+        let (covered, unoccluded) = if control_variate {
+            closed_form::unoccluded_light(it.scene, bsdf, x, wo.z)
+        } else {
+            (0, Rgb::ZERO)
+        };
         Shading { x, bsdf, frame, seen, point, selection, control_variate, covered, unoccluded }
     }};
 }

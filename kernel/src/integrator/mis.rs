@@ -65,6 +65,7 @@ impl Heuristic {
 
     /// The weights of all techniques for one sample point, given `q_i = n_i p_i(x)`.
     /// Negative or NaN entries count as zero; infinite entries dominate all finite ones.
+    #[inline(always)]
     pub fn weights<const N: usize>(&self, q: [f32; N]) -> [f32; N] {
         // Scale into r_i = q_i / q_max in [0, 1].
         let q = q.map(|v| if v > 0.0 { v } else { 0.0 });
@@ -274,38 +275,6 @@ impl Method {
     /// The method called `name` (one of [`Method::ALL`]'s names), with default parameters.
     pub fn from_name(name: &str) -> Option<Method> {
         <Self as Choice>::from_name(name)
-    }
-}
-
-/// Where the estimator takes its combination method from: the settings (a host render chooses
-/// any method at run time) or a constant ([`ConstMethod`]: a firmware's scene file fixes it, so
-/// the compiler keeps only that method's arithmetic: no `powf` for beta = 2).
-pub trait Weighting: 'static {
-    /// The method of a render whose settings name `method`.
-    fn method(method: Method) -> Method;
-}
-
-/// The settings' method.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct FromSettings;
-
-impl Weighting for FromSettings {
-    #[inline(always)]
-    fn method(method: Method) -> Method {
-        method
-    }
-}
-
-/// A method fixed at compile time (the settings must name the same one).
-pub trait ConstMethod: 'static {
-    /// The method.
-    const METHOD: Method;
-}
-
-impl<T: ConstMethod> Weighting for T {
-    #[inline(always)]
-    fn method(_: Method) -> Method {
-        T::METHOD
     }
 }
 

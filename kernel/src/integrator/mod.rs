@@ -4,8 +4,8 @@
 //!
 //! | file | what |
 //! |---|---|
-//! | `settings.rs` | [`RenderSettings`] and the [`Preset`]s they start from |
-//! | `mis.rs` | the heuristics and methods ([`Method`]), and where the estimator takes them from ([`Weighting`]) |
+//! | `settings.rs` | [`RenderSettings`], the [`Preset`]s they start from, and where the estimator reads them ([`SettingsSource`]) |
+//! | `mis.rs` | the heuristics and the methods that combine the techniques ([`Method`]) |
 //! | `model.rs` | the multi-sample and one-sample models ([`MisModel`]; types [`model::Multi`], [`model::One`]) |
 //! | `control_variate.rs` | the analytic control variate ([`ControlVariate`]; types [`control_variate::Off`], [`control_variate::On`]) |
 //! | `closed_form.rs` | the closed forms of unoccluded light on Lambertian receivers |
@@ -26,7 +26,7 @@ pub use closed_form::{projected_solid_angle, quad_projected_solid_angle, sphere_
 pub use control_variate::{ControlVariate, ControlVariateStrategy};
 pub use estimate::{Estimate, MAX_CONTRIBUTION, TechniqueEstimate};
 pub use estimator::{Integrator, Shading};
-pub use mis::{ConstMethod, FromSettings, Heuristic, Method, Technique, Weighting};
+pub use mis::{Heuristic, Method, Technique};
 pub use model::{MisModel, Model};
-pub use settings::{Preset, RenderSettings};
+pub use settings::{ConstSettings, Given, Preset, RenderSettings, SettingsSource};
 pub use strategies::{Direct, Strategies, Visit, dispatch, type_paths};

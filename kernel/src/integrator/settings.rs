@@ -64,6 +64,39 @@ impl Preset {
     }
 }
 
+/// Where the estimator reads its settings: those it was built with (a host chooses them at run
+/// time), or a constant ([`ConstSettings`]: a firmware's scene file fixes them, and the compiler
+/// folds every one into the code: the loops over the sample counts, the sample stream, the
+/// combination method, so that for the power heuristic with beta = 2 no `powf` is linked).
+pub trait SettingsSource: 'static {
+    /// The settings of an estimator built with `given`.
+    fn settings(given: &RenderSettings) -> RenderSettings;
+}
+
+/// The settings the estimator was built with.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Given;
+
+impl SettingsSource for Given {
+    #[inline(always)]
+    fn settings(given: &RenderSettings) -> RenderSettings {
+        *given
+    }
+}
+
+/// Settings fixed at compile time (an estimator is built with the same ones only).
+pub trait ConstSettings: 'static {
+    /// The settings.
+    const SETTINGS: RenderSettings;
+}
+
+impl<T: ConstSettings> SettingsSource for T {
+    #[inline(always)]
+    fn settings(_: &RenderSettings) -> RenderSettings {
+        T::SETTINGS
+    }
+}
+
 impl RenderSettings {
     /// Settings with `n_light` light and `n_bsdf` BSDF samples per camera sample, `spp` camera
     /// samples per pixel, and the strategies of [`Preset::Best`]. Rejects a method left with no samples, a power heuristic whose beta is

@@ -6,11 +6,12 @@ use core::marker::PhantomData;
 
 use crate::error::SceneError;
 use crate::integrator::control_variate::{self, ControlVariate, ControlVariateStrategy};
-use crate::integrator::mis::{FromSettings, Weighting};
 use crate::integrator::model::{self, MisModel, Model};
-use crate::integrator::settings::RenderSettings;
+use crate::integrator::settings::{Given, RenderSettings, SettingsSource};
 use crate::light::select::{ByContribution, ByPower, Uniform};
-use crate::light::{LightSelection, LightStrategies, Lights, LobeMixing, QuadSampling, SphereSampling, lobe, quad, sphere};
+use crate::light::{
+    LightSelection, LightStrategies, Lights, LobeMixing, QuadSampling, SphereSampling, lobe, quad, sphere,
+};
 
 /// The strategies of a render for scenes of at most `L` lights.
 pub trait Strategies<const L: usize>: 'static {
@@ -20,36 +21,38 @@ pub trait Strategies<const L: usize>: 'static {
     type ControlVariate: ControlVariateStrategy;
     /// The multi-sample or the one-sample model.
     type Model: Model;
-    /// Where the combination method comes from.
-    type Weights: Weighting;
+    /// Where the settings are read: those the estimator was built with, or a constant.
+    type Settings: SettingsSource;
 
     /// Whether `settings` name these strategies (the estimator is built for them only).
     fn check(settings: &RenderSettings) -> Result<(), SceneError> {
         use crate::light::select::Select;
         use crate::light::{lobe::LobeSampler, quad::QuadSampler, sphere::SphereSampler};
         type Lt<St, const L: usize> = <St as Strategies<L>>::Lights;
-        let agree = settings.light_selection() == <<Lt<Self, L> as LightStrategies<L>>::Selection as Select<L>>::KIND
-            && settings.sphere_sampling() == <<Lt<Self, L> as LightStrategies<L>>::Spheres as SphereSampler>::KIND
+        let agree = settings.light_selection()
+            == <<Lt<Self, L> as LightStrategies<L>>::Selection as Select<L>>::KIND
+            && settings.sphere_sampling()
+                == <<Lt<Self, L> as LightStrategies<L>>::Spheres as SphereSampler>::KIND
             && settings.quad_sampling() == <<Lt<Self, L> as LightStrategies<L>>::Quads as QuadSampler>::KIND
             && settings.lobe_mixing() == <<Lt<Self, L> as LightStrategies<L>>::Lobe as LobeSampler>::KIND
             && settings.control_variate() == Self::ControlVariate::KIND
             && settings.mis_model().is_one_sample() == Self::Model::ONE_SAMPLE
-            && Self::Weights::method(settings.method()) == settings.method();
+            && Self::Settings::settings(settings) == *settings;
         if agree { Ok(()) } else { Err(SceneError::StrategyMismatch) }
     }
 }
 
-/// The strategies `Lt` (lights), `Cv` (control variate), `Md` (model) and `W` (weights) as one
-/// type.
-pub struct Direct<Lt, Cv, Md, W = FromSettings>(PhantomData<fn() -> (Lt, Cv, Md, W)>);
+/// The strategies `Lt` (lights), `Cv` (control variate), `Md` (model) and the source of the
+/// settings `Src` as one type.
+pub struct Direct<Lt, Cv, Md, Src = Given>(PhantomData<fn() -> (Lt, Cv, Md, Src)>);
 
-impl<const L: usize, Lt: LightStrategies<L>, Cv: ControlVariateStrategy, Md: Model, W: Weighting> Strategies<L>
-    for Direct<Lt, Cv, Md, W>
+impl<const L: usize, Lt: LightStrategies<L>, Cv: ControlVariateStrategy, Md: Model, Src: SettingsSource>
+    Strategies<L> for Direct<Lt, Cv, Md, Src>
 {
     type Lights = Lt;
     type ControlVariate = Cv;
     type Model = Md;
-    type Weights = W;
+    type Settings = Src;
 }
 
 /// What [`dispatch`] calls with the strategy types of a render's settings.
@@ -60,7 +63,7 @@ pub trait Visit<const L: usize> {
     fn visit<St: Strategies<L>>(self) -> Self::Output;
 }
 
-/// Calls `visitor` with the strategy types that `settings` name (the method comes from the
+/// Calls `visitor` with the strategy types that `settings` name (the numbers come from the
 /// settings at run time). Every combination is compiled where this is called: a host calls it
 /// once per render, a firmware never (its build script names the types).
 pub fn dispatch<const L: usize, V: Visit<L>>(settings: &RenderSettings, visitor: V) -> V::Output {
@@ -89,7 +92,13 @@ fn quads<const L: usize, Sel: crate::light::Select<L>, Sp: sphere::SphereSampler
     }
 }
 
-fn lobes<const L: usize, Sel: crate::light::Select<L>, Sp: sphere::SphereSampler, Q: quad::QuadSampler, V: Visit<L>>(
+fn lobes<
+    const L: usize,
+    Sel: crate::light::Select<L>,
+    Sp: sphere::SphereSampler,
+    Q: quad::QuadSampler,
+    V: Visit<L>,
+>(
     s: &RenderSettings,
     v: V,
 ) -> V::Output {

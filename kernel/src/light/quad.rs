@@ -137,7 +137,12 @@ fn cosine_weights(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3) -> [f32; 4
 /// rectangle, with its pdf in solid angle times the pdf `warp` of a warp of `u`, if any. Out of
 /// line: one copy in the firmware.
 #[inline(never)]
-fn toward_rectangle(rect: &Rectangle, sr: &SphericalRectangle, u: Vec2, warp: Option<f32>) -> Option<LightSample> {
+fn toward_rectangle(
+    rect: &Rectangle,
+    sr: &SphericalRectangle,
+    u: Vec2,
+    warp: Option<f32>,
+) -> Option<LightSample> {
     let local = sample_spherical_rectangle(sr, u)?;
     let distance = sqrt(local.length_squared());
     let wi = (rect.ex * local.x + rect.ey * local.y + rect.n * local.z) / distance;

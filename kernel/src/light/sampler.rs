@@ -59,7 +59,9 @@ pub struct LightSampler<'a, St: LightStrategies<L>, const S: usize, const L: usi
     selection: St::Selection,
 }
 
-impl<'a, St: LightStrategies<L>, const S: usize, const L: usize, const M: usize> LightSampler<'a, St, S, L, M> {
+impl<'a, St: LightStrategies<L>, const S: usize, const L: usize, const M: usize>
+    LightSampler<'a, St, S, L, M>
+{
     /// The sampler of `scene`'s lights (its selection's tables are built here, once).
     pub fn new(scene: &'a Scene<S, L, M>) -> Self {
         Self { scene, selection: St::Selection::new(scene) }
@@ -283,7 +285,8 @@ mod tests {
         // Facing down: the sphere light and the bright point light are above its horizon.
         let point = ShadingPoint { p: Vec3::new(0.0, 3.0, 0.0), n: -Vec3::Y, wo: -Vec3::Y, bsdf };
         fn check<Sel: Select<3>>(s: &Scene<2, 3, 1>, point: &ShadingPoint) {
-            let lights = LightSampler::<Lights<Sel, sphere::InCone, quad::ByArea, lobe::Off>, 2, 3, 1>::new(s);
+            let lights =
+                LightSampler::<Lights<Sel, sphere::InCone, quad::ByArea, lobe::Off>, 2, 3, 1>::new(s);
             let at = lights.selection_at(point);
             let sum: f32 = (0..3).map(|i| lights.pmf(&at, LightId::new(i))).sum();
             assert!((sum - 1.0).abs() < 1e-6);
@@ -310,7 +313,8 @@ mod tests {
     #[test]
     fn samples_name_their_emitter_and_exclude_selection() {
         let s = scene();
-        let lights = LightSampler::<Lights<ByPower<3>, sphere::InCone, quad::ByArea, lobe::Off>, 2, 3, 1>::new(&s);
+        let lights =
+            LightSampler::<Lights<ByPower<3>, sphere::InCone, quad::ByArea, lobe::Off>, 2, 3, 1>::new(&s);
         let x = Vec3::new(0.0, 3.0, 0.0);
         let at =
             ShadingPoint { p: x, n: Vec3::Y, wo: Vec3::Y, bsdf: Material::lambertian(Rgb::ONE).unwrap() };

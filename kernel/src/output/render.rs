@@ -78,8 +78,9 @@ impl<St: Strategies<L>, const S: usize, const L: usize, const M: usize> Integrat
         // `area` lies inside the film, so its corner is non-negative.
         let (x0, y0) = (area.top_left.x as u32, area.top_left.y as u32);
         let (w, h) = (area.size.width, area.size.height);
-        let colors = (y0..y0 + h)
-            .flat_map(|y| (x0..x0 + w).map(move |x| D::Color::from(tone_map(self.render_pixel(x, y).radiance()))));
+        let colors = (y0..y0 + h).flat_map(|y| {
+            (x0..x0 + w).map(move |x| D::Color::from(tone_map(self.render_pixel(x, y).radiance())))
+        });
         target.fill_contiguous(&area, colors)?;
         Ok(RenderStats::new(area.size.width * area.size.height, self.settings().spp()))
     }
