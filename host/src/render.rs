@@ -24,7 +24,7 @@ pub type HostScene = Scene<HOST_SHAPES, HOST_LIGHTS, HOST_MATERIALS>;
 /// A render's estimator ([`picomis::Integrator`]) with the strategies of its settings.
 pub trait Renderer: Sync {
     /// The settings.
-    fn settings(&self) -> &RenderSettings;
+    fn settings(&self) -> RenderSettings;
     /// The HDR estimate of pixel `(x, y)`: the mean of its camera samples.
     fn render_pixel(&self, x: u32, y: u32) -> Estimate;
     /// The pixels of row `y` from column 0, as many as `row` holds.
@@ -49,7 +49,7 @@ impl<St: Strategies<L> + 'static, const S: usize, const L: usize, const M: usize
 where
     Self: Sync,
 {
-    fn settings(&self) -> &RenderSettings {
+    fn settings(&self) -> RenderSettings {
         Integrator::settings(self)
     }
     fn render_pixel(&self, x: u32, y: u32) -> Estimate {
