@@ -126,7 +126,6 @@ fn run() -> Result<(), BoxError> {
     let scene_path = resolve(&root, &manifest, &scene_arg);
     println!("cargo:rerun-if-changed={}", scene_path.display());
     let scene = picomis_format::SceneFile::load(&scene_path).map_err(|e| e.to_string())?;
-    fs::write(out.join("scene.rs"), scene.to_rust())?;
 
     // Render configuration.
     let width = number("PICOMIS_WIDTH")?.unwrap_or(board.width);
@@ -134,7 +133,14 @@ fn run() -> Result<(), BoxError> {
     if !(1..=4096).contains(&width) || !(1..=4096).contains(&height) {
         return Err(format!("film {width}x{height}: each side must be 1..=4096").into());
     }
+    // The scene, and the scene built for this film as its image (the firmware loads it).
+    let film = picomis::Film::new(width, height).map_err(|e| e.to_string())?;
+    let image = scene.image_rust(film).map_err(|e| e.to_string())?;
+    fs::write(out.join("scene.rs"), scene.to_rust() + &image)?;
     let spp = number("PICOMIS_SPP")?;
+    if spp == Some(0) {
+        return Err("PICOMIS_SPP=0: at least one sample per pixel".into());
+    }
     let seed = number("PICOMIS_SEED")?;
     let tile = number("PICOMIS_TILE")?.unwrap_or(16).max(1);
     let repeat = number("PICOMIS_MEASURE_REPEAT")?.unwrap_or(3).max(1);

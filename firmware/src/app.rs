@@ -2,11 +2,10 @@
 //! statistics, and (under QEMU) hand the framebuffer to the host and exit with a status. What
 //! build.rs generated is in `board.rs`; panics and faults are `fault.rs`.
 
-use core::mem::MaybeUninit;
 use core::ptr;
 
 use embedded_graphics::prelude::*;
-use picomis::{Film, RenderSettings, RenderStats};
+use picomis::{RenderSettings, RenderStats};
 
 use crate::board::{FB_BYTES, Fb, IntegratorT, config, scene};
 use crate::status;
@@ -74,17 +73,15 @@ const fn settings() -> Result<RenderSettings, picomis::SceneError> {
 }
 
 /// The scene, in .bss rather than on the stack.
-static mut SCENE: MaybeUninit<scene::SceneT> = MaybeUninit::uninit();
+static mut SCENE: scene::SceneT = scene::SceneT::EMPTY;
 
-/// Builds the scene into [`SCENE`] (once: called from `run` only). Kept out of line so that the
-/// builder's temporaries leave the stack before rendering starts.
+/// Loads the scene into [`SCENE`] from its image (`scene::IMAGE`, built by build.rs on the host:
+/// the firmware carries none of the code that builds a scene). Called from `run` only, once.
 #[inline(never)]
-fn build_scene(film: Film) -> Result<&'static scene::SceneT, picomis::SceneError> {
-    let empty = scene::SceneT::new(scene::camera(), film)?;
-    // SAFETY: called once, before any reference to SCENE exists.
-    let scene = unsafe { (*ptr::addr_of_mut!(SCENE)).write(empty) };
-    // Fill it in place: the scene is never copied whole on the stack again.
-    scene::populate(scene)?;
+fn load_scene() -> Result<&'static scene::SceneT, picomis::SceneError> {
+    // SAFETY: called once, before any other reference to SCENE exists.
+    let scene = unsafe { &mut *ptr::addr_of_mut!(SCENE) };
+    scene.load_image(&scene::IMAGE)?;
     // The ray queries in fixed point: the copies of the shapes are filled inside the scene.
     #[cfg(feature = "fixed")]
     scene.enable_arith(picomis::Arith::Fixed)?;
@@ -103,11 +100,7 @@ fn run() -> u32 {
     );
     #[cfg(feature = "fixed")]
     info!("ray queries in fixed point (feature fixed)");
-    let Ok(film) = Film::new(config::WIDTH, config::HEIGHT) else {
-        info!("error: film {}x{} rejected", config::WIDTH, config::HEIGHT);
-        return status::FILM;
-    };
-    let scene = match build_scene(film) {
+    let scene = match load_scene() {
         Ok(s) => s,
         Err(_e) => {
             #[cfg(feature = "fixed")]
@@ -120,7 +113,7 @@ fn run() -> u32 {
                 );
                 return status::NOT_REPRESENTABLE;
             }
-            info!("error: scene {} could not be built", scene::NAME);
+            info!("error: scene {} could not be loaded from its image", scene::NAME);
             #[cfg(feature = "rtt")]
             defmt::println!("scene error: {}", _e);
             return status::SCENE;
@@ -146,10 +139,10 @@ fn run() -> u32 {
         return status::SETTINGS;
     };
 
-    // Peak stack of the scene build, then start over for the render and what follows.
+    // Peak stack of the scene load, then start over for the render and what follows.
     let (build_peak, _) = stack::peak();
     info!(
-        "stack peak of the scene build: {} bytes (scene {} bytes, in .bss)",
+        "stack peak of the scene load: {} bytes (scene {} bytes, in .bss)",
         build_peak,
         core::mem::size_of::<scene::SceneT>() as u32
     );
@@ -199,7 +192,7 @@ fn run() -> u32 {
 
     let (render_peak, size) = stack::peak();
     info!(
-        "stack peak: {} of {} bytes (scene build {}, render and output {})",
+        "stack peak: {} of {} bytes (scene load {}, render and output {})",
         build_peak.max(render_peak),
         size,
         build_peak,

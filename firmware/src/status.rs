@@ -2,9 +2,7 @@
 
 /// Rendered and written to the host.
 pub const OK: u32 = 0;
-/// The film size was rejected.
-pub const FILM: u32 = 2;
-/// The scene could not be built.
+/// The scene could not be loaded from its image.
 pub const SCENE: u32 = 3;
 /// The settings could not be built.
 pub const SETTINGS: u32 = 4;

@@ -96,6 +96,13 @@ pub struct SceneFile {
     counts: Counts,
 }
 
+/// The shapes a scene built for its image may hold ([`SceneFile::image`]).
+pub const IMAGE_SHAPES: usize = 128;
+/// The lights a scene built for its image may hold.
+pub const IMAGE_LIGHTS: usize = 64;
+/// The materials a scene built for its image may hold.
+pub const IMAGE_MATERIALS: usize = 64;
+
 /// Largest scene file read, in bytes (scenes are small; this bounds memory on hostile input).
 pub const MAX_FILE_BYTES: u64 = 4 << 20;
 
@@ -252,6 +259,37 @@ impl SceneFile {
     /// `populate(&mut SceneT)` (fills an empty scene in place), `build(film)` and `settings()`.
     pub fn to_rust(&self) -> String {
         codegen::module(self)
+    }
+
+    /// The scene built for `film`, as the words of its image (`picomis::Scene::write_image`):
+    /// what a firmware loads with `Scene::load_image` instead of building it.
+    pub fn image(&self, film: Film) -> Result<Vec<u32>, LoadError> {
+        // Room for any scene a firmware holds: the image does not depend on the capacities.
+        let scene = Box::new(self.build_with_film::<IMAGE_SHAPES, IMAGE_LIGHTS, IMAGE_MATERIALS>(film)?);
+        let mut words = Vec::new();
+        scene.write_image(&mut |w| words.push(w));
+        Ok(words)
+    }
+
+    /// Rust source of `pub static IMAGE: [u32; N]`, the scene's image for `film`
+    /// ([`SceneFile::image`]), to go with [`SceneFile::to_rust`]'s module.
+    pub fn image_rust(&self, film: Film) -> Result<String, LoadError> {
+        let words = self.image(film)?;
+        let mut o = format!(
+            "/// The scene built for a {}x{} film, as the words of its image (`Scene::load_image`).\n\
+             pub static IMAGE: [u32; {}] = [",
+            film.width(),
+            film.height(),
+            words.len()
+        );
+        for (i, w) in words.iter().enumerate() {
+            if i % 8 == 0 {
+                o.push_str("\n   ");
+            }
+            o.push_str(&format!(" {w:#010x},"));
+        }
+        o.push_str("\n];\n");
+        Ok(o)
     }
 
     fn error(&self, entry: &str, e: SceneError) -> LoadError {

@@ -96,6 +96,8 @@ pub enum SceneError {
     ControlVariateWithoutLight,
     /// The settings name other strategies than the estimator was built for.
     StrategyMismatch,
+    /// A scene image's words do not hold a scene (`Scene::load_image`).
+    BadImage,
     /// The fixed-point format chosen for the scene cannot represent shape `entry` accurately
     /// (feature `fixed`).
     #[cfg(feature = "fixed")]
@@ -197,6 +199,7 @@ impl fmt::Display for SceneError {
             SceneError::ControlVariateWithoutLight => {
                 f.write_str("the control variate needs the light technique (a method with light samples)")
             }
+            SceneError::BadImage => f.write_str("the scene image is damaged or of another version"),
             SceneError::StrategyMismatch => {
                 f.write_str("the settings name other strategies than the estimator was built for")
             }

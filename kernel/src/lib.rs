@@ -45,6 +45,7 @@
 pub mod choice;
 pub mod error;
 pub mod geometry;
+mod image;
 pub mod integrator;
 pub mod light;
 pub mod num;

@@ -3,6 +3,7 @@
 
 use crate::error::{Field, SceneError};
 use crate::geometry::shape::Ray;
+use crate::image::{Image, Words};
 use crate::num::{Vec2, Vec3, dot, finite3, positive_finite, sin_cos_turns, sqrt, try_normalize};
 
 /// Which film axis the field of view spans.
@@ -27,6 +28,9 @@ pub struct Film {
 pub const MAX_FILM_SIDE: u32 = 16384;
 
 impl Film {
+    /// A film of one pixel.
+    pub(crate) const ONE: Film = Film { width: 1, height: 1 };
+
     /// A film of `width` x `height` pixels.
     pub fn new(width: u32, height: u32) -> Result<Self, SceneError> {
         let ok = |v: u32| (1..=MAX_FILM_SIDE).contains(&v);
@@ -201,6 +205,106 @@ impl Camera {
 
 /// The unit tests' camera: on the +z axis, 5 units from the origin, looking at it, `fov_deg`
 /// vertically.
+impl Image for Film {
+    fn put(&self, out: &mut dyn FnMut(u32)) {
+        out(self.width());
+        out(self.height());
+    }
+    fn get(words: &mut Words<'_>) -> Option<Self> {
+        Film::new(words.u32()?, words.u32()?).ok()
+    }
+}
+
+impl Camera {
+    /// A camera that sees nothing, for a scene that is about to be loaded
+    /// ([`Scene::load_image`](crate::Scene::load_image)).
+    pub(crate) const EMPTY: Camera = {
+        let zero = Vec3::ZERO;
+        let desc = CameraDesc {
+            origin: zero,
+            target: zero,
+            up: zero,
+            fov_deg: 0.0,
+            fov_axis: FovAxis::Y,
+            near_clip: 0.0,
+        };
+        Camera {
+            desc,
+            origin: zero,
+            forward: zero,
+            right: zero,
+            up: zero,
+            tan_x: 0.0,
+            tan_y: 0.0,
+            near_clip: 0.0,
+            size: Vec2::ZERO,
+            corner: zero,
+            step_x: zero,
+            step_y: zero,
+        }
+    };
+}
+
+impl Image for Camera {
+    fn put(&self, out: &mut dyn FnMut(u32)) {
+        let d = &self.desc;
+        for v in [
+            d.origin,
+            d.target,
+            d.up,
+            self.origin,
+            self.forward,
+            self.right,
+            self.up,
+            self.corner,
+            self.step_x,
+            self.step_y,
+        ] {
+            v.put(out);
+        }
+        for v in [d.fov_deg, d.near_clip, self.tan_x, self.tan_y, self.near_clip] {
+            v.put(out);
+        }
+        out(match d.fov_axis {
+            FovAxis::X => 0,
+            FovAxis::Y => 1,
+        });
+        self.size.put(out);
+    }
+    fn get(w: &mut Words<'_>) -> Option<Self> {
+        let [origin, target, up, c_origin, forward, right, c_up, corner, step_x, step_y] =
+            [(); 10].map(|_| Vec3::get(w));
+        let [fov_deg, near_clip, tan_x, tan_y, c_near_clip] = [(); 5].map(|_| w.f32());
+        let fov_axis = match w.u32()? {
+            0 => FovAxis::X,
+            1 => FovAxis::Y,
+            _ => return None,
+        };
+        let desc = CameraDesc {
+            origin: origin?,
+            target: target?,
+            up: up?,
+            fov_deg: fov_deg?,
+            fov_axis,
+            near_clip: near_clip?,
+        };
+        Some(Camera {
+            desc,
+            origin: c_origin?,
+            forward: forward?,
+            right: right?,
+            up: c_up?,
+            tan_x: tan_x?,
+            tan_y: tan_y?,
+            near_clip: c_near_clip?,
+            size: Vec2::get(w)?,
+            corner: corner?,
+            step_x: step_x?,
+            step_y: step_y?,
+        })
+    }
+}
+
 #[cfg(test)]
 pub(crate) fn test_desc(fov_deg: f32) -> CameraDesc {
     CameraDesc {

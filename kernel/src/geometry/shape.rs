@@ -3,6 +3,7 @@
 //! that surface again: the estimator skips the shape of origin instead of nudging ray origins.
 
 use crate::error::{Field, SceneError};
+use crate::image::{Image, Words};
 use crate::num::{PI, SOFT_FLOAT, Vec2, Vec3, dot, finite3, sqrt};
 use crate::sampling::{parallelogram_pdf, sample_parallelogram, sample_uniform_sphere};
 
@@ -593,6 +594,46 @@ impl Shape {
             Shape::Sphere(s) => s.center,
             Shape::Quad(q) => q.p0 + (q.e1 + q.e2) * 0.5,
         }
+    }
+}
+
+impl Image for Shape {
+    fn put(&self, out: &mut dyn FnMut(u32)) {
+        match self {
+            Shape::Sphere(s) => {
+                out(0);
+                s.center.put(out);
+                s.radius.put(out);
+                s.r2.put(out);
+            }
+            Shape::Quad(q) => {
+                out(1);
+                for v in [q.p0, q.e1, q.e2, q.n, q.s_axis, q.t_axis] {
+                    v.put(out);
+                }
+                q.plane.put(out);
+                q.area.put(out);
+            }
+        }
+    }
+    fn get(w: &mut Words<'_>) -> Option<Self> {
+        Some(match w.u32()? {
+            0 => Shape::Sphere(Sphere { center: Vec3::get(w)?, radius: w.f32()?, r2: w.f32()? }),
+            1 => {
+                let [p0, e1, e2, n, s_axis, t_axis] = [(); 6].map(|_| Vec3::get(w));
+                Shape::Quad(Quad {
+                    p0: p0?,
+                    e1: e1?,
+                    e2: e2?,
+                    n: n?,
+                    s_axis: s_axis?,
+                    t_axis: t_axis?,
+                    plane: w.f32()?,
+                    area: w.f32()?,
+                })
+            }
+            _ => return None,
+        })
     }
 }
 

@@ -1,5 +1,5 @@
 //! The analytic control variate: integral f V = integral f (in closed form, `closed_form.rs`)
-//! + integral f (V - 1) (sampled with MIS), for the unoccluded light reaching a Lambertian
+//! plus integral f (V - 1) (sampled with MIS), for the unoccluded light reaching a Lambertian
 //! receiver. As a type: the estimator branches on [`ControlVariateStrategy::ON`], a constant.
 
 crate::choices! {

@@ -44,7 +44,11 @@ pub trait Strategies<const L: usize>: 'static {
 
 /// The strategies `Lt` (lights), `Cv` (control variate), `Md` (model) and the source of the
 /// settings `Src` as one type.
-pub struct Direct<Lt, Cv, Md, Src = Given>(PhantomData<fn() -> (Lt, Cv, Md, Src)>);
+pub struct Direct<Lt, Cv, Md, Src = Given>(PhantomData<Types<(Lt, Cv, Md, Src)>>);
+
+/// The types of a strategy bundle (a function type: the bundle is `Send`, `Sync` and `Copy`
+/// whatever they are).
+type Types<T> = fn() -> T;
 
 impl<const L: usize, Lt: LightStrategies<L>, Cv: ControlVariateStrategy, Md: Model, Src: SettingsSource>
     Strategies<L> for Direct<Lt, Cv, Md, Src>

@@ -39,7 +39,11 @@ pub trait LightStrategies<const L: usize>: 'static {
 }
 
 /// The light strategies `Sel`, `Sp`, `Q` and `Lb` as one type.
-pub struct Lights<Sel, Sp, Q, Lb>(PhantomData<fn() -> (Sel, Sp, Q, Lb)>);
+pub struct Lights<Sel, Sp, Q, Lb>(PhantomData<Types<(Sel, Sp, Q, Lb)>>);
+
+/// The types of a strategy bundle (a function type: the bundle is `Send`, `Sync` and `Copy`
+/// whatever they are).
+type Types<T> = fn() -> T;
 
 impl<const L: usize, Sel: Select<L>, Sp: SphereSampler, Q: QuadSampler, Lb: LobeSampler> LightStrategies<L>
     for Lights<Sel, Sp, Q, Lb>

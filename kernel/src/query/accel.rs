@@ -50,7 +50,7 @@ pub(crate) type PointRays<const S: usize> = RaysFrom<S, POINT_TERMS>;
 impl<const S: usize, const KEPT: bool> RaysFrom<S, KEPT> {
     /// The rays from `origin`, before any object is added.
     #[inline]
-    pub(crate) fn new(origin: Vec3) -> Self {
+    pub(crate) const fn new(origin: Vec3) -> Self {
         Self { origin, terms: Vec::new() }
     }
 
@@ -383,8 +383,14 @@ mod packets {
 
     impl<const S: usize> Default for Packets<S> {
         fn default() -> Self {
-            Self { spheres: Vec::new(), quads: Vec::new(), sphere_count: 0, quad_count: 0 }
+            Self::EMPTY
         }
+    }
+
+    impl<const S: usize> Packets<S> {
+        /// No shapes.
+        pub const EMPTY: Self =
+            Self { spheres: Vec::new(), quads: Vec::new(), sphere_count: 0, quad_count: 0 };
     }
 
     impl<const S: usize> Packets<S> {
@@ -539,6 +545,10 @@ mod plain {
     }
 
     impl<const S: usize> Packets<S> {
+        /// No shapes.
+        #[cfg_attr(not(target_os = "none"), allow(dead_code))]
+        pub const EMPTY: Self = Self { emitters: 0..0 };
+
         /// Nothing to store.
         pub fn push(&mut self, _object: usize, _shape: &Shape) {}
 

@@ -28,6 +28,7 @@
 
 use crate::geometry::Shape;
 use crate::geometry::{Camera, Film};
+use crate::image::Words;
 use crate::num::{Vec3, max0, sqrt};
 
 /// Tiles across the film.
@@ -188,6 +189,27 @@ fn widen(camera: &Camera, p: Vec3, ranges: &mut ((f32, f32), (f32, f32))) -> boo
     *a = (a.0.min(x), a.1.max(x));
     *b = (b.0.min(y), b.1.max(y));
     true
+}
+
+impl CameraCull {
+    /// No film and no objects, for a scene that is about to be loaded.
+    pub(crate) const EMPTY: CameraCull = CameraCull { masks: [0; TILES], scale: (0, 0), film: Film::ONE };
+}
+
+impl crate::image::Image for CameraCull {
+    fn put(&self, out: &mut dyn FnMut(u32)) {
+        self.masks.iter().for_each(|&m| out(m));
+        out(self.scale.0);
+        out(self.scale.1);
+        self.film.put(out);
+    }
+    fn get(w: &mut Words<'_>) -> Option<Self> {
+        let mut masks = [0; TILES];
+        for m in &mut masks {
+            *m = w.u32()?;
+        }
+        Some(CameraCull { masks, scale: (w.u32()?, w.u32()?), film: Film::get(w)? })
+    }
 }
 
 #[cfg(test)]

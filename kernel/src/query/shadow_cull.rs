@@ -25,6 +25,7 @@
 //! [`Scene::emitter_hit_from_surface`]: crate::scene::Scene::emitter_hit_from_surface
 
 use crate::geometry::Shape;
+use crate::image::{Image, Words};
 use crate::num::{Vec3, dot, try_normalize};
 use crate::query::camera_cull::{CULLED, object_bit};
 
@@ -291,6 +292,34 @@ impl<const S: usize, const L: usize> ShadowCull<S, L> {
     #[inline]
     pub fn other_occluders(&self, receiver: usize, light: usize) -> Option<u32> {
         self.occluders(receiver, light).map(|m| m & !self.emitters)
+    }
+}
+
+impl<const S: usize, const L: usize> ShadowCull<S, L> {
+    /// No objects, no lights, for a scene that is about to be loaded.
+    pub(crate) const EMPTY: Self = ShadowCull { masks: [[0; L]; S], emitters: 0, camera_extent: 0.0 };
+
+    /// Writes the masks of the first `shapes` receivers and `lights` lights to `out`.
+    pub(crate) fn put(&self, shapes: usize, lights: usize, out: &mut dyn FnMut(u32)) {
+        out(self.emitters);
+        self.camera_extent.put(out);
+        for row in self.masks.iter().take(shapes) {
+            row.iter().take(lights).for_each(|&m| out(m));
+        }
+    }
+
+    /// Reads what [`ShadowCull::put`] wrote for `shapes` receivers and `lights` lights (each at
+    /// most the capacity).
+    pub(crate) fn get(&mut self, shapes: usize, lights: usize, w: &mut Words<'_>) -> Option<()> {
+        *self = Self::EMPTY;
+        self.emitters = w.u32()?;
+        self.camera_extent = w.f32()?;
+        for r in 0..shapes {
+            for l in 0..lights {
+                *self.masks.get_mut(r)?.get_mut(l)? = w.u32()?;
+            }
+        }
+        Some(())
     }
 }
 

@@ -31,6 +31,12 @@ macro_rules! index_type {
             pub fn index(self) -> usize {
                 usize::from(self.0)
             }
+
+            /// The index as stored.
+            #[inline]
+            pub const fn raw(self) -> u16 {
+                self.0
+            }
         }
     };
 }

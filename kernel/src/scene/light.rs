@@ -4,6 +4,7 @@
 
 use crate::error::{Field, SceneError};
 use crate::geometry::Shape;
+use crate::image::{Image, Words};
 use crate::num::{PI, Rgb, Vec3, channel_mean, finite3, max0};
 use crate::scene::ids::ShapeId;
 
@@ -97,5 +98,28 @@ impl Light {
             }
             Light::Point { intensity, .. } => 4.0 * PI * max0(channel_mean(intensity)),
         }
+    }
+}
+impl Image for Light {
+    fn put(&self, out: &mut dyn FnMut(u32)) {
+        match *self {
+            Light::Area { shape, radiance } => {
+                out(0);
+                out(u32::from(shape.raw()));
+                radiance.put(out);
+            }
+            Light::Point { position, intensity } => {
+                out(1);
+                position.put(out);
+                intensity.put(out);
+            }
+        }
+    }
+    fn get(w: &mut Words<'_>) -> Option<Self> {
+        Some(match w.u32()? {
+            0 => Light::Area { shape: ShapeId::new(u16::try_from(w.u32()?).ok()?), radiance: Rgb::get(w)? },
+            1 => Light::Point { position: Vec3::get(w)?, intensity: Rgb::get(w)? },
+            _ => return None,
+        })
     }
 }

@@ -3,6 +3,7 @@
 //! (`z` = normal), `wo` towards the viewer, `wi` towards the light.
 
 use crate::error::{Field, SceneError};
+use crate::image::{Image, Words};
 use crate::num::{Frame, INV_PI, Rgb, Vec2, Vec3, dot, finite3, positive_finite, try_normalize};
 use crate::sampling::{GgxAlpha, cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_ggx_vndf};
 
@@ -246,6 +247,29 @@ impl Outgoing {
                 Some(BsdfSample { wi, weight: reflectance * self.ggx.g1(wi), pdf })
             }
         }
+    }
+}
+
+impl Image for Material {
+    fn put(&self, out: &mut dyn FnMut(u32)) {
+        match *self {
+            Material::Lambertian { albedo } => {
+                out(0);
+                albedo.put(out);
+            }
+            Material::GgxConductor { alpha, reflectance } => {
+                out(1);
+                alpha.put(out);
+                reflectance.put(out);
+            }
+        }
+    }
+    fn get(w: &mut Words<'_>) -> Option<Self> {
+        Some(match w.u32()? {
+            0 => Material::Lambertian { albedo: Rgb::get(w)? },
+            1 => Material::GgxConductor { alpha: w.f32()?, reflectance: Rgb::get(w)? },
+            _ => return None,
+        })
     }
 }
 
