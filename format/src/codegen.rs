@@ -27,8 +27,9 @@ fn method(m: Method) -> String {
 }
 
 /// The settings of the file's integrator block with the strategies a scene's content makes
-/// equivalent replaced by the smallest (the same bits): no quad lights, quads by area; no
-/// sphere lights, spheres by area; one light, no selection by contribution; lobe mixing only with
+/// equivalent replaced by the smallest (the same bits): no quad lights, quads by area (and the
+/// type `quad::Absent`, which leaves out every strategy's code for quad lights); no sphere
+/// lights, spheres by area (`sphere::Absent`); one light, no selection by contribution; lobe mixing only with
 /// a GGX receiver and an area light; the control variate only with a Lambertian receiver and an
 /// area light.
 pub fn firmware_settings(s: &SceneFile) -> RenderSettings {
@@ -59,6 +60,7 @@ fn strategies(o: &mut String, s: &SceneFile) {
     let m = settings.method();
     let (n_light, n_bsdf) = settings.sample_counts();
     let lights = s.counts().lights;
+    let kinds = s.light_kinds();
     let path = |p: &str| p.replace("<L>", &format!("<{lights}>"));
     let _ = writeln!(
         o,
@@ -69,8 +71,16 @@ fn strategies(o: &mut String, s: &SceneFile) {
         o,
         "pub type Strategies<C> = picomis::Direct<picomis::Lights<{}, {}, {}, {}>, {}, {}, C>;",
         path(type_paths::selection(settings.light_selection())),
-        path(type_paths::spheres(settings.sphere_sampling())),
-        path(type_paths::quads(settings.quad_sampling())),
+        if kinds.spheres {
+            path(type_paths::spheres(settings.sphere_sampling()))
+        } else {
+            type_paths::NO_SPHERES.into()
+        },
+        if kinds.quads {
+            path(type_paths::quads(settings.quad_sampling()))
+        } else {
+            type_paths::NO_QUADS.into()
+        },
         path(type_paths::lobe(settings.lobe_mixing())),
         path(type_paths::control_variate(settings.control_variate())),
         path(type_paths::model(settings.mis_model())),

@@ -41,10 +41,30 @@ impl<'a> Words<'a> {
         self.u32().map(f32::from_bits)
     }
 
+    /// The next `N` words.
+    #[inline]
+    pub(crate) fn take<const N: usize>(&mut self) -> Option<[u32; N]> {
+        let (head, rest) = self.words.split_first_chunk::<N>()?;
+        self.words = rest;
+        Some(*head)
+    }
+
     /// Whether every word has been read.
     pub(crate) fn is_empty(&self) -> bool {
         self.words.is_empty()
     }
+}
+
+/// The float of word `i` of `a` (`i` a constant below `N`: no bounds check is left).
+#[inline(always)]
+pub(crate) fn float<const N: usize>(a: &[u32; N], i: usize) -> f32 {
+    f32::from_bits(a.get(i).copied().unwrap_or(0))
+}
+
+/// The vector of words `i..i + 3` of `a`.
+#[inline(always)]
+pub(crate) fn vec3<const N: usize>(a: &[u32; N], i: usize) -> Vec3 {
+    Vec3::new(float(a, i), float(a, i + 1), float(a, i + 2))
 }
 
 /// A part of a built scene that writes itself as words and reads itself back.

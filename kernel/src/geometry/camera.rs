@@ -3,7 +3,7 @@
 
 use crate::error::{Field, SceneError};
 use crate::geometry::shape::Ray;
-use crate::image::{Image, Words};
+use crate::image::{Image, Words, float, vec3};
 use crate::num::{Vec2, Vec3, dot, finite3, positive_finite, sin_cos_turns, sqrt, try_normalize};
 
 /// Which film axis the field of view spans.
@@ -272,35 +272,33 @@ impl Image for Camera {
         self.size.put(out);
     }
     fn get(w: &mut Words<'_>) -> Option<Self> {
-        let [origin, target, up, c_origin, forward, right, c_up, corner, step_x, step_y] =
-            [(); 10].map(|_| Vec3::get(w));
-        let [fov_deg, near_clip, tan_x, tan_y, c_near_clip] = [(); 5].map(|_| w.f32());
-        let fov_axis = match w.u32()? {
+        let a: [u32; 38] = w.take()?;
+        let fov_axis = match a[35] {
             0 => FovAxis::X,
             1 => FovAxis::Y,
             _ => return None,
         };
         let desc = CameraDesc {
-            origin: origin?,
-            target: target?,
-            up: up?,
-            fov_deg: fov_deg?,
+            origin: vec3(&a, 0),
+            target: vec3(&a, 3),
+            up: vec3(&a, 6),
+            fov_deg: float(&a, 30),
             fov_axis,
-            near_clip: near_clip?,
+            near_clip: float(&a, 31),
         };
         Some(Camera {
             desc,
-            origin: c_origin?,
-            forward: forward?,
-            right: right?,
-            up: c_up?,
-            tan_x: tan_x?,
-            tan_y: tan_y?,
-            near_clip: c_near_clip?,
-            size: Vec2::get(w)?,
-            corner: corner?,
-            step_x: step_x?,
-            step_y: step_y?,
+            origin: vec3(&a, 9),
+            forward: vec3(&a, 12),
+            right: vec3(&a, 15),
+            up: vec3(&a, 18),
+            corner: vec3(&a, 21),
+            step_x: vec3(&a, 24),
+            step_y: vec3(&a, 27),
+            tan_x: float(&a, 32),
+            tan_y: float(&a, 33),
+            near_clip: float(&a, 34),
+            size: Vec2::new(float(&a, 36), float(&a, 37)),
         })
     }
 }

@@ -3,7 +3,7 @@
 //! that surface again: the estimator skips the shape of origin instead of nudging ray origins.
 
 use crate::error::{Field, SceneError};
-use crate::image::{Image, Words};
+use crate::image::{Image, Words, float, vec3};
 use crate::num::{PI, SOFT_FLOAT, Vec2, Vec3, dot, finite3, sqrt};
 use crate::sampling::{parallelogram_pdf, sample_parallelogram, sample_uniform_sphere};
 
@@ -618,18 +618,21 @@ impl Image for Shape {
     }
     fn get(w: &mut Words<'_>) -> Option<Self> {
         Some(match w.u32()? {
-            0 => Shape::Sphere(Sphere { center: Vec3::get(w)?, radius: w.f32()?, r2: w.f32()? }),
+            0 => {
+                let a: [u32; 5] = w.take()?;
+                Shape::Sphere(Sphere { center: vec3(&a, 0), radius: float(&a, 3), r2: float(&a, 4) })
+            }
             1 => {
-                let [p0, e1, e2, n, s_axis, t_axis] = [(); 6].map(|_| Vec3::get(w));
+                let a: [u32; 20] = w.take()?;
                 Shape::Quad(Quad {
-                    p0: p0?,
-                    e1: e1?,
-                    e2: e2?,
-                    n: n?,
-                    s_axis: s_axis?,
-                    t_axis: t_axis?,
-                    plane: w.f32()?,
-                    area: w.f32()?,
+                    p0: vec3(&a, 0),
+                    e1: vec3(&a, 3),
+                    e2: vec3(&a, 6),
+                    n: vec3(&a, 9),
+                    s_axis: vec3(&a, 12),
+                    t_axis: vec3(&a, 15),
+                    plane: float(&a, 18),
+                    area: float(&a, 19),
                 })
             }
             _ => return None,

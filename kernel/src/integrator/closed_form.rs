@@ -13,6 +13,8 @@
 //! values, so the host and a Cortex-M choose alike.
 
 use crate::geometry::Shape;
+use crate::light::quad::QuadSampler;
+use crate::light::sphere::SphereSampler;
 use crate::num::{INV_PI, PI, Rgb, Vec3, acos, atan2, clamp, safe_sqrt, sqrt};
 use crate::scene::Light;
 use crate::scene::Material;
@@ -120,9 +122,10 @@ pub fn sphere_projected_solid_angle(c: Vec3, r: f32, n: Vec3) -> Option<f32> {
 
 /// The lights whose unoccluded part at `x` has a trusted closed form (bit i for light i < 64),
 /// and their reflected radiance rho / pi sum_i L_i Omega_perp_i, for a Lambertian receiver seen
-/// from above its surface (`cos_o` > 0); nothing otherwise.
+/// from above its surface (`cos_o` > 0); nothing otherwise. Only sphere and quad lights of the
+/// kinds the scene may have ([`SphereSampler::PRESENT`], [`QuadSampler::PRESENT`]) count.
 #[inline]
-pub fn unoccluded_light<const S: usize, const L: usize, const M: usize>(
+pub fn unoccluded_light<Sp: SphereSampler, Q: QuadSampler, const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     bsdf: &Material,
     x: &Hit,
@@ -138,7 +141,12 @@ pub fn unoccluded_light<const S: usize, const L: usize, const M: usize>(
         if shape == x.object {
             continue;
         }
-        let Some(shape) = scene.objects().get(shape.index()).map(|o| &o.shape) else { continue };
+        let Some(shape) = scene.shape(shape) else { continue };
+        // Only for the kinds of lights the scene may have.
+        let present = if shape.as_sphere().is_some() { Sp::PRESENT } else { Q::PRESENT };
+        if !present {
+            continue;
+        }
         if let Some(omega) = projected_solid_angle(shape, x.point.p, x.point.n) {
             covered |= 1 << i;
             sum += radiance * omega;

@@ -324,7 +324,13 @@ macro_rules! shading {
         };
         let control_variate = St::ControlVariate::ON && matches!(bsdf, Material::Lambertian { .. });
         let (covered, unoccluded) = if control_variate {
-            closed_form::unoccluded_light(it.scene, bsdf, x, wo.z)
+            closed_form::unoccluded_light::<
+                <St::Lights as LightStrategies<L>>::Spheres,
+                <St::Lights as LightStrategies<L>>::Quads,
+                S,
+                L,
+                M,
+            >(it.scene, bsdf, x, wo.z)
         } else {
             (0, Rgb::ZERO)
         };

@@ -143,6 +143,14 @@ pub mod type_paths {
         }
     }
 
+    /// The sphere sampling's type in a scene without sphere lights (its kind is
+    /// [`SphereSampling::Area`]).
+    pub const NO_SPHERES: &str = "picomis::light::sphere::Absent";
+
+    /// The quad sampling's type in a scene without quad lights (its kind is
+    /// [`QuadSampling::Area`]).
+    pub const NO_QUADS: &str = "picomis::light::quad::Absent";
+
     /// The sphere sampling's type.
     pub const fn spheres(s: SphereSampling) -> &'static str {
         match s {
@@ -269,5 +277,11 @@ mod tests {
             }
         }
         assert_eq!(n, 144);
+        // The types of scenes without sphere or quad lights.
+        use crate::light::{quad::QuadSampler, sphere::SphereSampler};
+        assert_eq!(ident(type_paths::NO_SPHERES), ident(core::any::type_name::<sphere::Absent>()));
+        assert_eq!(ident(type_paths::NO_QUADS), ident(core::any::type_name::<quad::Absent>()));
+        assert_eq!((sphere::Absent::KIND, quad::Absent::KIND), (SphereSampling::Area, QuadSampling::Area));
+        const { assert!(!sphere::Absent::PRESENT && !quad::Absent::PRESENT && sphere::InCone::PRESENT) };
     }
 }

@@ -19,7 +19,9 @@
 //! A build that does not name [`On`] contains none of it.
 
 use crate::geometry::Shape;
+use crate::light::quad::QuadSampler;
 use crate::light::sample::ShadingPoint;
+use crate::light::sphere::SphereSampler;
 use crate::num::{Frame, Vec2, Vec3, dot, sqrt};
 use crate::sampling::{
     SlopeBox, cone_one_minus_cos, ggx_reflection_in_pdf, nearest_edge, sample_ggx_reflection_in,
@@ -43,8 +45,9 @@ pub trait LobeSampler: Sync + 'static {
     const KIND: LobeMixing;
 
     /// The lobe of the receiver at `at` towards the area light of shape `shape`, where it joins
-    /// the light samples.
-    fn towards(shape: &Shape, at: &ShadingPoint) -> Option<Lobe>;
+    /// the light samples; only for the kinds of lights the scene may have (see
+    /// [`SphereSampler::PRESENT`] and [`QuadSampler::PRESENT`] of its strategies `Sp` and `Q`).
+    fn towards<Sp: SphereSampler, Q: QuadSampler>(shape: &Shape, at: &ShadingPoint) -> Option<Lobe>;
 }
 
 /// Light samples from the light alone.
@@ -55,7 +58,7 @@ impl LobeSampler for Off {
     const KIND: LobeMixing = LobeMixing::Off;
 
     #[inline(always)]
-    fn towards(_: &Shape, _: &ShadingPoint) -> Option<Lobe> {
+    fn towards<Sp: SphereSampler, Q: QuadSampler>(_: &Shape, _: &ShadingPoint) -> Option<Lobe> {
         None
     }
 }
@@ -68,8 +71,8 @@ impl LobeSampler for On {
     const KIND: LobeMixing = LobeMixing::On;
 
     #[inline]
-    fn towards(shape: &Shape, at: &ShadingPoint) -> Option<Lobe> {
-        Lobe::towards(shape, at.p, at.n, at.wo, &at.bsdf)
+    fn towards<Sp: SphereSampler, Q: QuadSampler>(shape: &Shape, at: &ShadingPoint) -> Option<Lobe> {
+        Lobe::towards::<Sp, Q>(shape, at.p, at.n, at.wo, &at.bsdf)
     }
 }
 
@@ -118,8 +121,20 @@ impl Lobe {
     /// ([`SlopeBox::facing_edge`]), within [`LOBE_REACH`] alphas outside it and twice
     /// [`LOBE_INSIDE`] inside.
     #[inline]
-    pub fn towards(shape: &Shape, x: Vec3, n: Vec3, wo: Vec3, bsdf: &Material) -> Option<Self> {
+    pub fn towards<Sp: SphereSampler, Q: QuadSampler>(
+        shape: &Shape,
+        x: Vec3,
+        n: Vec3,
+        wo: Vec3,
+        bsdf: &Material,
+    ) -> Option<Self> {
         let Material::GgxConductor { alpha, .. } = *bsdf else { return None };
+        // Only for the kinds of lights the scene may have.
+        match shape.as_sphere() {
+            Some(_) if !Sp::PRESENT => return None,
+            None if !Q::PRESENT => return None,
+            _ => {}
+        }
         let (center, radius) = match shape.as_sphere() {
             Some(sphere) => sphere,
             None => (shape.centroid(), shape.bounding_radius()),

@@ -25,6 +25,9 @@ crate::choices! {
 pub trait QuadSampler: Sync + 'static {
     /// Its name among the settings.
     const KIND: QuadSampling;
+    /// Whether the scene may have quad lights: false for [`Absent`] (a firmware's scene file has
+    /// none), and the code of the other strategies for quad lights is left out.
+    const PRESENT: bool = true;
 
     /// The quad `shape` seen from `x`, where this strategy samples it: decided by the setup
     /// alone, so that a sample and the pdf of any direction take the same way.
@@ -45,6 +48,32 @@ pub struct ByArea;
 
 impl QuadSampler for ByArea {
     const KIND: QuadSampling = QuadSampling::Area;
+
+    #[inline(always)]
+    fn seen(_: &Shape, _: Vec3) -> Option<(Rectangle, SphericalRectangle)> {
+        None
+    }
+
+    #[inline(always)]
+    fn sample(_: &Rectangle, _: &SphericalRectangle, _: Vec3, _: Vec2) -> Option<LightSample> {
+        None
+    }
+
+    #[inline(always)]
+    fn pdf(_: &Rectangle, _: &SphericalRectangle, _: &ShadingPoint, _: Vec3) -> f32 {
+        0.0
+    }
+}
+
+/// No quad lights in the scene (a build script names it for a scene file that has none): any
+/// quad light is sampled by area, and the other strategies leave out their code for quad
+/// lights (lobe mixing and the control variate skip them: still unbiased, as without them).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Absent;
+
+impl QuadSampler for Absent {
+    const KIND: QuadSampling = QuadSampling::Area;
+    const PRESENT: bool = false;
 
     #[inline(always)]
     fn seen(_: &Shape, _: Vec3) -> Option<(Rectangle, SphericalRectangle)> {

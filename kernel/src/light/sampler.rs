@@ -176,7 +176,7 @@ impl<'a, St: LightStrategies<L>, const S: usize, const L: usize, const M: usize>
         let light = self.scene.light(light)?;
         let Light::Area { radiance, shape: emitter } = *light else { return None };
         let shape = self.scene.light_shape(light)?;
-        let lobe = St::Lobe::towards(shape, at)?;
+        let lobe = St::Lobe::towards::<St::Spheres, St::Quads>(shape, at)?;
         Some((lobe, shape, radiance, emitter))
     }
 

@@ -20,6 +20,9 @@ crate::choices! {
 pub trait SphereSampler: Sync + 'static {
     /// Its name among the settings.
     const KIND: SphereSampling;
+    /// Whether the scene may have sphere lights: false for [`Absent`] (a firmware's scene file
+    /// has none), and the code of the other strategies for sphere lights is left out.
+    const PRESENT: bool = true;
 
     /// A direction from `x` to the sphere (`center`, `radius`) and its pdf, drawn with `u`;
     /// radiance and emitter are left for the caller. `None`: draw it by area instead.
@@ -84,4 +87,25 @@ fn sphere_cone(center: Vec3, radius: f32, x: Vec3) -> Option<f32> {
     let d2 = dot(to_center, to_center);
     let r2 = radius * radius;
     (d2 > r2).then(|| cone_one_minus_cos(r2 / d2))
+}
+
+/// No sphere lights in the scene (a build script names it for a scene file that has none): any
+/// sphere light is sampled by area, and the other strategies leave out their code for sphere
+/// lights (lobe mixing and the control variate skip them: still unbiased, as without them).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Absent;
+
+impl SphereSampler for Absent {
+    const KIND: SphereSampling = SphereSampling::Area;
+    const PRESENT: bool = false;
+
+    #[inline(always)]
+    fn sample(_: Vec3, _: f32, _: Vec3, _: Vec2) -> Option<LightSample> {
+        None
+    }
+
+    #[inline(always)]
+    fn pdf(_: Vec3, _: f32, _: Vec3) -> Option<f32> {
+        None
+    }
 }

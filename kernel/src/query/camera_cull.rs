@@ -204,11 +204,9 @@ impl crate::image::Image for CameraCull {
         self.film.put(out);
     }
     fn get(w: &mut Words<'_>) -> Option<Self> {
-        let mut masks = [0; TILES];
-        for m in &mut masks {
-            *m = w.u32()?;
-        }
-        Some(CameraCull { masks, scale: (w.u32()?, w.u32()?), film: Film::get(w)? })
+        let masks = w.take::<TILES>()?;
+        let [sx, sy] = w.take()?;
+        Some(CameraCull { masks, scale: (sx, sy), film: Film::get(w)? })
     }
 }
 

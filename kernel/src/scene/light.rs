@@ -4,7 +4,7 @@
 
 use crate::error::{Field, SceneError};
 use crate::geometry::Shape;
-use crate::image::{Image, Words};
+use crate::image::{Image, Words, vec3};
 use crate::num::{PI, Rgb, Vec3, channel_mean, finite3, max0};
 use crate::scene::ids::ShapeId;
 
@@ -117,8 +117,14 @@ impl Image for Light {
     }
     fn get(w: &mut Words<'_>) -> Option<Self> {
         Some(match w.u32()? {
-            0 => Light::Area { shape: ShapeId::new(u16::try_from(w.u32()?).ok()?), radiance: Rgb::get(w)? },
-            1 => Light::Point { position: Vec3::get(w)?, intensity: Rgb::get(w)? },
+            0 => {
+                let a: [u32; 4] = w.take()?;
+                Light::Area { shape: ShapeId::new(u16::try_from(a[0]).ok()?), radiance: vec3(&a, 1) }
+            }
+            1 => {
+                let a: [u32; 6] = w.take()?;
+                Light::Point { position: vec3(&a, 0), intensity: vec3(&a, 3) }
+            }
             _ => return None,
         })
     }

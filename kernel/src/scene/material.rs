@@ -3,7 +3,7 @@
 //! (`z` = normal), `wo` towards the viewer, `wi` towards the light.
 
 use crate::error::{Field, SceneError};
-use crate::image::{Image, Words};
+use crate::image::{Image, Words, float, vec3};
 use crate::num::{Frame, INV_PI, Rgb, Vec2, Vec3, dot, finite3, positive_finite, try_normalize};
 use crate::sampling::{GgxAlpha, cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_ggx_vndf};
 
@@ -266,8 +266,11 @@ impl Image for Material {
     }
     fn get(w: &mut Words<'_>) -> Option<Self> {
         Some(match w.u32()? {
-            0 => Material::Lambertian { albedo: Rgb::get(w)? },
-            1 => Material::GgxConductor { alpha: w.f32()?, reflectance: Rgb::get(w)? },
+            0 => Material::Lambertian { albedo: vec3(&w.take::<3>()?, 0) },
+            1 => {
+                let a: [u32; 4] = w.take()?;
+                Material::GgxConductor { alpha: float(&a, 0), reflectance: vec3(&a, 1) }
+            }
             _ => return None,
         })
     }
