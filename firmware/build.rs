@@ -2,8 +2,10 @@
 //! - picks the board from the target (thumbv7em: STM32F405, thumbv6m: nRF51822 / micro:bit,
 //!   riscv32: FE310 / HiFive1) and
 //!   copies its memory layout to OUT_DIR as `board-memory.x`, which the root `memory.x` includes;
-//! - turns the scene file (`PICOMIS_SCENE`, default `scenes/veach_mis.json`) into Rust with
-//!   `picomis_format::SceneFile::to_rust` (OUT_DIR/scene.rs);
+//! - turns the scene file (`PICOMIS_SCENE`, default `scenes/veach_mis.json`; with
+//!   `PICOMIS_PRESET`, a preset's settings instead of its integrator block) into Rust with
+//!   `picomis_format::SceneFile::to_rust` and the scene built for the film as an image
+//!   (`SceneFile::image_rust`; OUT_DIR/scene.rs);
 //! - writes the render configuration from `PICOMIS_WIDTH/HEIGHT/SPP/SEED/TILE/OUT` and
 //!   `PICOMIS_MEASURE_*` (OUT_DIR/config.rs);
 //! - passes the linker scripts (`link.x`, and `defmt.x` with the `rtt` feature).
@@ -126,6 +128,17 @@ fn run() -> Result<(), BoxError> {
     let scene_path = resolve(&root, &manifest, &scene_arg);
     println!("cargo:rerun-if-changed={}", scene_path.display());
     let scene = picomis_format::SceneFile::load(&scene_path).map_err(|e| e.to_string())?;
+    // `PICOMIS_PRESET`: the settings of a preset (`lecture`, `best`) instead of the file's block.
+    let scene = match var("PICOMIS_PRESET") {
+        Some(name) => {
+            let preset = picomis::Preset::from_name(name.trim()).ok_or_else(|| {
+                format!("PICOMIS_PRESET={name:?}: expected {}", picomis::choice::Names::<picomis::Preset>::of())
+            })?;
+            let keys = picomis_format::IntegratorDesc { preset: Some(preset), ..Default::default() };
+            scene.with_integrator(&keys).map_err(|e| e.to_string())?
+        }
+        None => scene,
+    };
 
     // Render configuration.
     let width = number("PICOMIS_WIDTH")?.unwrap_or(board.width);

@@ -9,6 +9,14 @@
 #                                   __rg_alloc, __rdl_alloc, ...)
 #   scripts/symbols.sh --self-test  the check finds both kinds in objects that have them (the
 #                                   target's compiler_builtins and alloc rlibs), so it can fail
+#   scripts/symbols.sh --strategies none FILE...
+#                                   fails if a linked firmware carries code of a strategy beyond
+#                                   the lecture's: selection by contribution (contribution), lobe
+#                                   mixing (lobe), the one-sample model (one-sample), the control
+#                                   variate (control-variate)
+#   scripts/symbols.sh --strategies LIST FILE...
+#                                   LIST: names from those, comma-separated; fails unless the
+#                                   firmware carries the code of exactly those
 #
 # On a Cortex-M4F (single-precision FPU) and a Cortex-M0 (no FPU) every f64 operation is a call to
 # such a routine, so their absence from the linked firmware means no f64 arithmetic ran. On x86
@@ -58,6 +66,35 @@ check() {
   echo "ok (no f64, no alloc; $(wc -l <<<"$syms") symbols): $file"
 }
 
+# The strategies beyond the lecture's, as "name:pattern" (a pattern of demangled symbol names
+# that the strategy's code keeps out of line: the kernel marks them #[inline(never)]).
+STRATEGIES="contribution:select::contribution::ByContribution lobe:light::lobe::Lobe::towards one-sample:estimate_direct_one_sample control-variate:closed_form::unoccluded_light"
+
+# strategies WANT FILE: WANT none (no strategy's code) or a comma-separated list of the names of
+# STRATEGIES (exactly those strategies' code).
+strategies() {
+  local want=$1 file=$2 syms s name pattern found wanted rc=0
+  [ -f "$file" ] || { echo "symbols.sh: $file: no such file" >&2; return 1; }
+  syms=$("$NM" -C --no-sort "$file" 2>/dev/null)
+  [ -n "$syms" ] || { echo "symbols.sh: $file: no symbols read" >&2; return 1; }
+  for s in $STRATEGIES; do
+    name=${s%%:*}
+    pattern=${s#*:}
+    found=$(grep -cF "$pattern" <<<"$syms")
+    wanted=0
+    [[ ",$want," == *",$name,"* ]] && wanted=1
+    if [ $wanted = 0 ] && [ "$found" -gt 0 ]; then
+      echo "$file: carries $name code ($(grep -F "$pattern" <<<"$syms" | head -n1 | awk '{print $NF}'))"
+      rc=1
+    elif [ $wanted = 1 ] && [ "$found" -eq 0 ]; then
+      echo "$file: carries no $name code (no symbol matching $pattern)"
+      rc=1
+    fi
+  done
+  [ $rc = 0 ] && echo "ok (code of the strategies beyond the lecture's: $want): $file"
+  return $rc
+}
+
 self_test() {
   local sysroot lib rc=0
   sysroot=$(rustc --print sysroot)
@@ -82,7 +119,20 @@ if [ "${1:-}" = --self-test ]; then
   self_test
   exit
 fi
-[ $# -gt 0 ] || { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+if [ "${1:-}" = --strategies ]; then
+  want=${2:-}
+  for name in ${want//,/ }; do
+    [ "$name" = none ] || [[ " $STRATEGIES" == *" $name:"* ]] ||
+      { echo "symbols.sh --strategies none|NAME,NAME... FILE... (names: contribution, lobe, one-sample, control-variate)" >&2; exit 2; }
+  done
+  shift 2
+  rc=0
+  for f in "$@"; do
+    strategies "$want" "$f" || rc=1
+  done
+  exit $rc
+fi
+[ $# -gt 0 ] || { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 rc=0
 for f in "$@"; do
   check "$f" || rc=1

@@ -224,6 +224,16 @@ impl SceneFile {
         self.integrator.settings(1, 0).unwrap_or_else(|_| picomis::Preset::Best.settings())
     }
 
+    /// The same scene with `keys` over its integrator block ([`IntegratorDesc::over`]: a preset
+    /// among them starts over from it), validated like the file's own block.
+    pub fn with_integrator(&self, keys: &IntegratorDesc) -> Result<SceneFile, LoadError> {
+        let integrator = keys.over(&self.integrator);
+        integrator
+            .settings(1, 0)
+            .map_err(|e| LoadError { file: self.file.clone(), entry: format!("integrator.{}", e.key), reason: e.reason })?;
+        Ok(SceneFile { integrator, ..self.clone() })
+    }
+
     /// Whether the scene has a light of each kind: area lights on spheres, area lights on quads,
     /// point lights (a firmware build carries the code of the kinds it has only).
     pub fn light_kinds(&self) -> LightKinds {

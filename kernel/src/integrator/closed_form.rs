@@ -124,7 +124,8 @@ pub fn sphere_projected_solid_angle(c: Vec3, r: f32, n: Vec3) -> Option<f32> {
 /// and their reflected radiance rho / pi sum_i L_i Omega_perp_i, for a Lambertian receiver seen
 /// from above its surface (`cos_o` > 0); nothing otherwise. Only sphere and quad lights of the
 /// kinds the scene may have ([`SphereSampler::PRESENT`], [`QuadSampler::PRESENT`]) count.
-#[inline]
+/// (Out of line: once per shading point, and a firmware that carries it shows it by name.)
+#[inline(never)]
 pub fn unoccluded_light<Sp: SphereSampler, Q: QuadSampler, const S: usize, const L: usize, const M: usize>(
     scene: &Scene<S, L, M>,
     bsdf: &Material,

@@ -120,7 +120,8 @@ impl Lobe {
     /// ([`SlopeBox::facing_cone`]) and at the edge of a quad nearest the mirror direction
     /// ([`SlopeBox::facing_edge`]), within [`LOBE_REACH`] alphas outside it and twice
     /// [`LOBE_INSIDE`] inside.
-    #[inline]
+    /// (Out of line: a firmware that carries it shows it by name.)
+    #[inline(never)]
     pub fn towards<Sp: SphereSampler, Q: QuadSampler>(
         shape: &Shape,
         x: Vec3,
