@@ -45,7 +45,6 @@
 pub mod choice;
 pub mod error;
 pub mod geometry;
-mod image;
 pub mod integrator;
 pub mod light;
 pub mod num;
@@ -53,6 +52,7 @@ pub mod output;
 pub mod query;
 pub mod sampling;
 pub mod scene;
+mod words;
 
 pub use choice::Choice;
 #[cfg(feature = "fixed")]

@@ -3,8 +3,8 @@
 
 use crate::error::{Field, SceneError};
 use crate::geometry::shape::Ray;
-use crate::image::{Image, Words, float, vec3};
 use crate::num::{Vec2, Vec3, dot, finite3, positive_finite, sin_cos_turns, sqrt, try_normalize};
+use crate::words::{Image, Words, float, vec3};
 
 /// Which film axis the field of view spans.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

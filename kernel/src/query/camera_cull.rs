@@ -28,8 +28,8 @@
 
 use crate::geometry::Shape;
 use crate::geometry::{Camera, Film};
-use crate::image::Words;
 use crate::num::{Vec3, max0, sqrt};
+use crate::words::Words;
 
 /// Tiles across the film.
 pub const COLUMNS: u32 = 8;
@@ -196,7 +196,7 @@ impl CameraCull {
     pub(crate) const EMPTY: CameraCull = CameraCull { masks: [0; TILES], scale: (0, 0), film: Film::ONE };
 }
 
-impl crate::image::Image for CameraCull {
+impl crate::words::Image for CameraCull {
     fn put(&self, out: &mut dyn FnMut(u32)) {
         self.masks.iter().for_each(|&m| out(m));
         out(self.scale.0);

@@ -25,9 +25,9 @@
 //! [`Scene::emitter_hit_from_surface`]: crate::scene::Scene::emitter_hit_from_surface
 
 use crate::geometry::Shape;
-use crate::image::{Image, Words};
 use crate::num::{Vec3, dot, try_normalize};
 use crate::query::camera_cull::{CULLED, object_bit};
+use crate::words::{Image, Words};
 
 /// Widening of every separation, relative to the largest coordinate involved.
 pub const MARGIN: f32 = 1e-4;

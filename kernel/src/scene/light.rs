@@ -4,9 +4,9 @@
 
 use crate::error::{Field, SceneError};
 use crate::geometry::Shape;
-use crate::image::{Image, Words, vec3};
 use crate::num::{PI, Rgb, Vec3, channel_mean, finite3, max0};
 use crate::scene::ids::ShapeId;
+use crate::words::{Image, Words, vec3};
 
 /// The largest radiance (area lights) or intensity (point lights) a scene accepts, per channel:
 /// with [`MAX_CONTRIBUTION`](crate::integrator::MAX_CONTRIBUTION) it keeps every pixel's running

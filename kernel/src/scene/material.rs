@@ -3,9 +3,9 @@
 //! (`z` = normal), `wo` towards the viewer, `wi` towards the light.
 
 use crate::error::{Field, SceneError};
-use crate::image::{Image, Words, float, vec3};
 use crate::num::{Frame, INV_PI, Rgb, Vec2, Vec3, dot, finite3, positive_finite, try_normalize};
 use crate::sampling::{GgxAlpha, cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_ggx_vndf};
+use crate::words::{Image, Words, float, vec3};
 
 /// The closed set of materials.
 #[derive(Clone, Copy, Debug, PartialEq)]
