@@ -73,6 +73,24 @@ impl<const L: usize> Select<L> for ByContribution<L> {
     }
 }
 
+/// The sum of the finite, non-negative weights `w`, made finite: where it overflows (lights near
+/// the 1e20 emission cap seen from close by), every weight is first divided by the largest, in
+/// place (the distribution they give is the same), so that no light's share, nor the floor
+/// share of the mixture, rounds to zero against an infinite sum.
+#[inline]
+fn finite_sum(w: &mut [f32]) -> f32 {
+    let sum = w.iter().sum::<f32>();
+    if sum.is_finite() {
+        return sum;
+    }
+    let largest = w.iter().fold(0.0f32, |m, &v| if v > m { v } else { m });
+    if !(largest > 0.0 && largest.is_finite()) {
+        return sum;
+    }
+    w.iter_mut().for_each(|v| *v /= largest);
+    w.iter().sum::<f32>()
+}
+
 impl<const L: usize> ByContribution<L> {
     /// The mixture of the lights' contributions and importances at `point`. Out of line: the
     /// code around it stays small.
@@ -89,19 +107,65 @@ impl<const L: usize> ByContribution<L> {
             }
         });
         let importance = &mut importance[..n];
+        let contribution = &mut contribution[..n];
         if receiver.is_some() {
-            // The mixture (1 - floor) c_k / sum c + floor i_k / sum i, each part where it has a sum.
-            let sum = |w: &[f32]| w.iter().sum::<f32>();
-            let (total_i, total_c) = (sum(importance), sum(&contribution[..n]));
+            // The mixture (1 - floor) c_k / sum c + floor i_k / sum i, each part where it has a sum
+            // (a finite one: see `finite_sum`).
+            let (total_i, total_c) = (finite_sum(importance), finite_sum(contribution));
             let (scale_i, scale_c) = match (total_i > 0.0, total_c > 0.0) {
                 (true, true) => (CONTRIBUTION_FLOOR / total_i, (1.0 - CONTRIBUTION_FLOOR) / total_c),
                 (false, true) => (0.0, 1.0),
                 (_, false) => (1.0, 0.0),
             };
-            for (i, c) in importance.iter_mut().zip(&contribution) {
+            for (i, c) in importance.iter_mut().zip(contribution.iter()) {
                 *i = *i * scale_i + *c * scale_c;
             }
+        } else {
+            finite_sum(importance);
         }
         GridDistribution::new(importance)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Film, test_desc};
+    use crate::num::{Rgb, Vec3};
+    use crate::scene::Material;
+
+    /// Two point lights at the emission cap, and a third one far and dim, around a point that
+    /// sees them from 1e-12 away: their strengths overflow f32.
+    fn scene() -> Scene<1, 3, 1> {
+        let mut s: Scene<1, 3, 1> = Scene::new(test_desc(40.0), Film::new(4, 4).unwrap()).unwrap();
+        let cap = Rgb::splat(crate::scene::MAX_EMISSION);
+        s.add_point_light(Vec3::new(0.0, 1e-12, 0.0), cap).unwrap();
+        s.add_point_light(Vec3::new(1e-12, 1e-12, 0.0), cap).unwrap();
+        s.add_point_light(Vec3::new(0.0, 10.0, 0.0), Rgb::splat(1.0)).unwrap();
+        s
+    }
+
+    /// No light that can contribute gets probability zero, nor does the floor share vanish,
+    /// when the weights overflow: the lights at the cap share nearly everything, the dim one
+    /// keeps a positive share through the floor (GGX receiver) or its importance. (Before: the
+    /// lights at the cap had no cone, and the dim one took probability one.)
+    #[test]
+    fn weights_at_the_emission_cap_keep_every_light() {
+        let s = scene();
+        let select = <ByContribution<3> as Select<3>>::new(&s);
+        for bsdf in
+            [Material::lambertian(Rgb::ONE).unwrap(), Material::ggx_conductor(0.01, Rgb::ONE).unwrap()]
+        {
+            let point = ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo: Vec3::Y, bsdf };
+            let frame = Frame::from_normal(point.n);
+            let seen = bsdf.seen_from(frame.to_local(point.wo));
+            let at = select.at(&point, &frame, &seen);
+            let p: [f32; 3] = core::array::from_fn(|k| select.pmf(&at, LightId::new(k as u16)));
+            assert!(p.iter().all(|&p| p > 0.0), "{bsdf:?}: {p:?}");
+            assert!((p.iter().sum::<f32>() - 1.0).abs() < 1e-6, "{p:?}");
+            // The lights at the cap share nearly everything.
+            assert!(p[0] > 0.01 && p[1] > 0.01 && p[2] < 1e-3, "{p:?}");
+            assert!(select.select(&at, 0).is_some());
+        }
     }
 }

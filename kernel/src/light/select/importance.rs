@@ -159,7 +159,10 @@ impl LightGeometry {
             }
             LightGeometry::Dark => return None,
         };
-        (cone.strength.is_finite() && finite3(cone.axis)).then_some(cone)
+        // A strength beyond f32 (a light at the emission cap seen from very close) is the largest
+        // f32: the light keeps the largest share, not none.
+        let strength = if cone.strength > f32::MAX { f32::MAX } else { cone.strength };
+        (strength.is_finite() && finite3(cone.axis)).then_some(LightCone { strength, ..cone })
     }
 }
 
@@ -557,7 +560,14 @@ impl LightCone {
             Some(le) => estimate.min(le * receiver.albedo),
             None => estimate,
         };
-        if estimate.is_finite() { estimate } else { 0.0 }
+        // Beyond f32 (a near-mirror's peak times a light at the cap): the largest f32.
+        if estimate.is_finite() {
+            estimate
+        } else if estimate > 0.0 {
+            f32::MAX
+        } else {
+            0.0
+        }
     }
 }
 
