@@ -5,9 +5,9 @@
 use core::ptr;
 
 use embedded_graphics::prelude::*;
-use picomis::{RenderSettings, RenderStats};
+use picomis::RenderStats;
 
-use crate::board::{FB_BYTES, Fb, IntegratorT, config, scene};
+use crate::board::{FB_BYTES, Fb, config, scene};
 use crate::status;
 use crate::{arch, clock, stack};
 
@@ -37,41 +37,6 @@ fn fnv1a(data: &[u8]) -> u32 {
     data.iter().fold(0x811c_9dc5u32, |h, &b| (h ^ u32::from(b)).wrapping_mul(0x0100_0193))
 }
 
-/// The render settings: the scene file's, with the build's sample count and seed, as
-/// constants: the estimator reads them from here (`ConstSettings`), so the compiler folds every
-/// setting into the code and drops the branches of the methods, models and streams it does not
-/// use (on the M4F 2,064 -> 1,868 instructions per camera sample, the same bits).
-pub struct Settings;
-
-impl picomis::integrator::ConstSettings for Settings {
-    const SETTINGS: RenderSettings = match settings() {
-        Ok(s) => s,
-        // build.rs checked the scene file, the sample count and the seed.
-        Err(_) => panic!("the scene file's integrator block or PICOMIS_SPP is invalid"),
-    };
-}
-
-/// The settings, in flash.
-static SETTINGS: RenderSettings = <Settings as picomis::integrator::ConstSettings>::SETTINGS;
-
-const fn settings() -> Result<RenderSettings, picomis::SceneError> {
-    let s = match scene::settings() {
-        Ok(s) => s,
-        Err(e) => return Err(e),
-    };
-    let s = match config::SPP {
-        Some(spp) => match s.with_spp(spp) {
-            Ok(s) => s,
-            Err(e) => return Err(e),
-        },
-        None => s,
-    };
-    Ok(match config::SEED {
-        Some(seed) => s.with_seed(seed),
-        None => s,
-    })
-}
-
 /// The scene, in .bss rather than on the stack.
 static mut SCENE: scene::SceneT = scene::SceneT::EMPTY;
 
@@ -81,7 +46,7 @@ static mut SCENE: scene::SceneT = scene::SceneT::EMPTY;
 fn load_scene() -> Result<&'static scene::SceneT, picomis::SceneError> {
     // SAFETY: called once, before any other reference to SCENE exists.
     let scene = unsafe { &mut *ptr::addr_of_mut!(SCENE) };
-    scene.load_image(&scene::IMAGE)?;
+    scene::load(scene)?;
     // The ray queries in fixed point: the copies of the shapes are filled inside the scene.
     #[cfg(feature = "fixed")]
     scene.enable_arith(picomis::Arith::Fixed)?;
@@ -119,7 +84,7 @@ fn run() -> u32 {
             return status::SCENE;
         }
     };
-    let settings = &SETTINGS;
+    let settings = &scene::SETTINGS;
     info!(
         "film {}x{}, {} spp, seed {}, {} shapes, {} lights, {} materials, tiles {}x{}",
         config::WIDTH,
@@ -134,7 +99,7 @@ fn run() -> u32 {
     );
     #[cfg(feature = "rtt")]
     defmt::println!("settings: {}", settings);
-    let Ok(integrator) = IntegratorT::new(scene, settings) else {
+    let Ok(integrator) = scene::integrator(scene) else {
         info!("error: the settings do not name the strategies the firmware was built with");
         return status::SETTINGS;
     };

@@ -417,9 +417,9 @@ pub const DIVISIONS: u32 = 1 << 16;
 pub fn division_operands(i: u32) -> (u64, u32) {
     const D: [u32; 8] = [1, 2, 3, 0x8000_0000, 0x7fff_ffff, 0x1_0000, 0x1_0001, 0x5555_5555];
     let (a, b) = (mix(i ^ 0x5bd1_e995), mix(i.wrapping_add(0x68e3_1da4)));
-    let d = if i % 8 == 0 { D[(a % 8) as usize] } else { 1 + ((a >> 1) >> (b % 31)) };
+    let d = if i.is_multiple_of(8) { D[(a % 8) as usize] } else { 1 + ((a >> 1) >> (b % 31)) };
     let top = u64::from(d) << 31; // the bound: n < top
-    let n = if i % 8 == 0 {
+    let n = if i.is_multiple_of(8) {
         let k = u64::from(b);
         [0, u64::from(d) - 1, u64::from(d), top - 1, top - u64::from(d), k * u64::from(d), k, top >> 1]
             [(b >> 29) as usize]
@@ -436,7 +436,7 @@ pub fn division_operands(i: u32) -> (u64, u32) {
 pub fn wide_factors(i: u32) -> (i32, i32) {
     const E: [i32; 8] = [0, 1, -1, i32::MIN, i32::MAX, 0xffff, -0x1_0000, 0x7fff_8000];
     let (a, b) = (mix(i ^ 0x2545_f491), mix(i.wrapping_add(0x1b87_3593)));
-    if i % 8 == 0 {
+    if i.is_multiple_of(8) {
         (E[(a % 8) as usize], E[(b % 8) as usize])
     } else {
         ((a as i32) >> (b % 32), (b as i32) >> (a % 32))

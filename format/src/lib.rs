@@ -10,6 +10,7 @@
 //! firmware add the same materials, shapes and lights in the same order with the same f32 bits.
 #![deny(missing_docs)]
 
+pub mod build;
 mod catalog;
 mod codegen;
 mod desc;
@@ -228,9 +229,11 @@ impl SceneFile {
     /// among them starts over from it), validated like the file's own block.
     pub fn with_integrator(&self, keys: &IntegratorDesc) -> Result<SceneFile, LoadError> {
         let integrator = keys.over(&self.integrator);
-        integrator
-            .settings(1, 0)
-            .map_err(|e| LoadError { file: self.file.clone(), entry: format!("integrator.{}", e.key), reason: e.reason })?;
+        integrator.settings(1, 0).map_err(|e| LoadError {
+            file: self.file.clone(),
+            entry: format!("integrator.{}", e.key),
+            reason: e.reason,
+        })?;
         Ok(SceneFile { integrator, ..self.clone() })
     }
 

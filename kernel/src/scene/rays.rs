@@ -5,6 +5,8 @@
 use crate::geometry::{Ray, SurfacePoint};
 use crate::num::{Rgb, Vec2, Vec3, dot};
 use crate::query::accel::{self, Filter, PointRays, RaysFrom};
+#[cfg(feature = "fixed")]
+use crate::scene::Object;
 use crate::scene::{Hit, Light, LightId, Scene, ShapeId};
 
 impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
