@@ -1,18 +1,38 @@
 //! The cost of one camera sample (primary ray, emission, one light and one BSDF sample) per
-//! method on each built-in scene, built with the scene's own capacities. Pixels are visited in a
+//! method of the study on each built-in scene (the host's list, then "defaults": the scene file's
+//! own integrator, as `picomis-sim study` has it), built as the host's scene and rendered by the
+//! estimator of each method's settings (`picomis_host::renderer`). Pixels are visited in a
 //! scrambled order, so every measurement averages over the whole image.
 
 use std::hint::black_box;
 
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use picomis::camera_sample;
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use picomis::RenderSettings;
 use picomis_bench::{
-    MEASUREMENT, PixelCycle, SAMPLE_SIZE, WARM_UP, build, builtin_scenes, for_scene, methods,
+    HostScene, MEASUREMENT, PixelCycle, SAMPLE_SIZE, WARM_UP, builtin_scenes, host_scene, methods,
 };
 use picomis_format::SceneFile;
 
-fn scene_group<const S: usize, const L: usize, const M: usize>(file: &SceneFile, c: &mut Criterion) {
-    let scene = build::<S, L, M>(file);
+/// Times camera samples of `scene` with `settings` as benchmark `label` of `group`.
+fn bench(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    label: &str,
+    scene: &HostScene,
+    settings: &RenderSettings,
+) {
+    let renderer = picomis_host::renderer(scene, settings).unwrap_or_else(|e| panic!("{label}: {e}"));
+    let mut pixels = PixelCycle::new(scene.film());
+    group.bench_function(BenchmarkId::from_parameter(label), |b| {
+        b.iter(|| {
+            let (x, y, s) = pixels.next_pixel();
+            black_box(renderer.camera_sample(x, y, s))
+        })
+    });
+}
+
+fn scene_group(file: &SceneFile, c: &mut Criterion) {
+    let scene = host_scene(file);
     let mut group = c.benchmark_group(format!("camera_sample/{}", file.name()));
     group.throughput(Throughput::Elements(1));
     for m in methods() {
@@ -23,20 +43,16 @@ fn scene_group<const S: usize, const L: usize, const M: usize>(file: &SceneFile,
             eprintln!("camera_sample/{}/{}: skipped: {e}", file.name(), m.label);
             continue;
         }
-        let mut pixels = PixelCycle::new(scene.film());
-        group.bench_function(BenchmarkId::from_parameter(m.label), |b| {
-            b.iter(|| {
-                let (x, y, s) = pixels.next_pixel();
-                black_box(camera_sample(&scene, &settings, x, y, s))
-            })
-        });
+        bench(&mut group, m.label, &scene, &settings);
     }
+    // The scene file's own integrator, as `picomis-sim render` renders it.
+    bench(&mut group, "defaults", &scene, &file.default_settings());
     group.finish();
 }
 
 fn camera_samples(c: &mut Criterion) {
     for file in builtin_scenes() {
-        for_scene!(&file, scene_group, c);
+        scene_group(&file, c);
     }
 }
 

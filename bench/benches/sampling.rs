@@ -1,14 +1,18 @@
 //! The cost of each sampling routine: `picomis::sampling::*`, `Material::sample/eval/pdf`,
-//! `Light::sample_li/pdf_li`, the MIS weights, the sampler, and `Scene::intersect` /
-//! `Scene::unoccluded` on the Veach scene. Inputs cycle through fixed tables of random numbers.
+//! `LightSampler::sample/pdf` of one light (typed light strategies), the MIS weights, the sampler,
+//! and `Scene::intersect` / `Scene::unoccluded` on the Veach scene. Inputs cycle through fixed
+//! tables of random numbers.
 
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use picomis::light::select::Uniform;
+use picomis::light::sphere::{self, SphereSampler};
+use picomis::light::{lobe, quad};
 use picomis::sampling::*;
 use picomis::{
-    Heuristic, Light, LightSampler, LightSelection, Material, Method, Rgb, Sampler, ShadingPoint, Shape,
-    ShapeId, SphereSampling, SurfacePoint, Vec3,
+    CameraDesc, Film, FovAxis, Heuristic, LightId, LightSampler, Lights, Material, Method, Rgb, Sampler,
+    Scene, ShadingPoint, Shape, ShapeId, SurfacePoint, Vec3,
 };
 use picomis_bench::{INPUTS, Inputs, MEASUREMENT, SAMPLE_SIZE, WARM_UP, build, builtin_scenes};
 
@@ -73,6 +77,59 @@ fn materials(c: &mut Criterion) {
     g.finish();
 }
 
+/// A scene of one light: an area light on `shape`, or a point light without one.
+type OneLight = Scene<1, 1, 1>;
+
+fn one_light(shape: Option<Shape>) -> OneLight {
+    let camera = CameraDesc {
+        origin: Vec3::new(0.0, 1.0, 4.0),
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_deg: 40.0,
+        fov_axis: FovAxis::Y,
+        near_clip: 0.0,
+    };
+    let mut scene = OneLight::new(camera, Film::new(4, 4).expect("a film")).expect("a camera");
+    match shape {
+        Some(shape) => {
+            let black = scene.add_material(Material::lambertian(Rgb::ZERO).expect("albedo")).expect("room");
+            let id = scene.add_shape(shape, black).expect("room");
+            scene.add_area_light(id, Rgb::splat(10.0)).expect("room");
+        }
+        None => {
+            scene.add_point_light(Vec3::new(0.0, 2.0, 0.0), Rgb::splat(10.0)).expect("room");
+        }
+    }
+    scene
+}
+
+/// `LightSampler::sample` and `pdf` of the one light of `scene`, spheres sampled by `Sp` (quads
+/// by area), from the shading points `xs` on a floor.
+fn light_case<Sp: SphereSampler>(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+    scene: &OneLight,
+    xs: &[Vec3],
+    t: &Inputs,
+) {
+    let lights = LightSampler::<Lights<Uniform, Sp, quad::ByArea, lobe::Off>, 1, 1, 1>::new(scene);
+    let diffuse = Material::lambertian(Rgb::splat(0.5)).expect("valid albedo");
+    let at: Vec<ShadingPoint> =
+        xs.iter().map(|&p| ShadingPoint { p, n: Vec3::Y, wo: Vec3::Y, bsdf: diffuse }).collect();
+    let light = LightId::new(0);
+    cycle(g, &format!("{name}/sample"), |i| lights.sample(light, &at[i], t.u[i]));
+    // Points on the light seen from each x, as a BSDF ray would find them.
+    let shape = scene.objects().first().map(|o| o.shape);
+    let ys: Vec<SurfacePoint> = (0..INPUTS)
+        .map(|i| {
+            let s = lights.sample(light, &at[i], t.u[(i + 1) & MASK]);
+            let p = s.map_or(Vec3::new(0.0, 2.0, 0.0), |s| xs[i] + s.wi * s.distance);
+            SurfacePoint { p, n: shape.map_or(Vec3::Y, |sh| sh.normal_at(p)) }
+        })
+        .collect();
+    cycle(g, &format!("{name}/pdf"), |i| lights.pdf(light, &at[i], &ys[i]));
+}
+
 fn lights(c: &mut Criterion) {
     let t = Inputs::new();
     let mut g = c.benchmark_group("light");
@@ -87,28 +144,10 @@ fn lights(c: &mut Criterion) {
         Vec3::new(0.5, 2.0, -0.5),
     ])
     .unwrap();
-    let area = Light::Area { shape: ShapeId::new(0), radiance: Rgb::splat(10.0) };
-    let point = Light::Point { position: Vec3::new(0.0, 2.0, 0.0), intensity: Rgb::splat(10.0) };
-    let cases = [
-        ("sphere_area", area, Some(sphere), SphereSampling::Area),
-        ("sphere_cone", area, Some(sphere), SphereSampling::Cone),
-        ("quad", area, Some(quad), SphereSampling::Cone),
-        ("point", point, None, SphereSampling::Cone),
-    ];
-    for (name, light, shape, spheres) in cases {
-        cycle(&mut g, &format!("{name}/sample_li"), |i| {
-            light.sample_li(shape.as_ref(), xs[i], t.u[i], spheres)
-        });
-        // Points on the light seen from each x, as a BSDF ray would find them.
-        let ys: Vec<SurfacePoint> = (0..INPUTS)
-            .map(|i| {
-                let s = light.sample_li(shape.as_ref(), xs[i], t.u[(i + 1) & MASK], spheres);
-                let p = s.map_or(Vec3::new(0.0, 2.0, 0.0), |s| xs[i] + s.wi * s.distance);
-                SurfacePoint { p, n: shape.map_or(Vec3::Y, |sh| sh.normal_at(p)) }
-            })
-            .collect();
-        cycle(&mut g, &format!("{name}/pdf_li"), |i| light.pdf_li(shape.as_ref(), xs[i], &ys[i], spheres));
-    }
+    light_case::<sphere::ByArea>(&mut g, "sphere_area", &one_light(Some(sphere)), &xs, &t);
+    light_case::<sphere::InCone>(&mut g, "sphere_cone", &one_light(Some(sphere)), &xs, &t);
+    light_case::<sphere::InCone>(&mut g, "quad", &one_light(Some(quad)), &xs, &t);
+    light_case::<sphere::InCone>(&mut g, "point", &one_light(None), &xs, &t);
     g.finish();
 }
 
@@ -157,13 +196,14 @@ fn scene_queries(c: &mut Criterion) {
         let (ray, dist, a) = &shadow[i];
         scene.unoccluded(ray, *dist, *a, Some(ShapeId::new(7)))
     });
-    let lights = LightSampler::new(&scene, LightSelection::Uniform, SphereSampling::Cone);
+    let lights =
+        LightSampler::<Lights<Uniform, sphere::InCone, quad::ByArea, lobe::Off>, 11, 5, 6>::new(&scene);
     let diffuse = Material::lambertian(Rgb::splat(0.5)).expect("valid albedo");
     cycle(&mut g, "sample_light_cone", |i| {
         let p = shadow[i].0.origin;
         let point = ShadingPoint { p, n: Vec3::Y, wo: Vec3::Y, bsdf: diffuse };
-        let at = lights.selection_at(&point);
-        let chosen = lights.select(&at, t.u1[i])?;
+        // (Uniform selection reads nothing at the point: its selection there is `()`.)
+        let chosen = lights.select(&lights.selection_at(&point), t.u1[i])?;
         lights.sample(chosen.light, &point, t.u[i]).map(|s| s.pdf * chosen.probability)
     });
     g.finish();

@@ -10,18 +10,20 @@
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use picomis::{Heuristic, LightSelection, Method, RenderSettings, camera_sample};
+use picomis::{Heuristic, LightSelection, Method, RenderSettings};
 use picomis_bench::{MEASUREMENT, PixelCycle, SAMPLE_SIZE, SynthScene, WARM_UP, synthetic_scene};
 
 fn balance() -> RenderSettings {
     RenderSettings::new(Method::Mis(Heuristic::Balance), 1, 1, 1, 0).expect("valid settings")
 }
 
+/// Camera samples of `scene` by the estimator of `settings` (`picomis_host::renderer`).
 fn run(b: &mut criterion::Bencher<'_>, scene: &SynthScene, settings: &RenderSettings) {
+    let renderer = picomis_host::renderer(scene, settings).expect("settings the kernel accepts");
     let mut pixels = PixelCycle::new(scene.film());
     b.iter(|| {
         let (x, y, s) = pixels.next_pixel();
-        black_box(camera_sample(scene, settings, x, y, s))
+        black_box(renderer.camera_sample(x, y, s))
     })
 }
 

@@ -3,16 +3,18 @@
 //!
 //! - `quads`: quad lights by area, in solid angle, and in solid angle warped by the receiver's
 //!   cosine, each with the balance and power heuristics and light sampling alone (the kernel's
-//!   `camera_sample`; scenes without a rectangular quad light are skipped).
+//!   estimator for the settings, `picomis_host::renderer`; scenes without a rectangular quad
+//!   light are skipped).
 //! - `weights`: the balance and power heuristics against variance-aware weights (Grittmann,
 //!   Georgiev, Slusallek and Křivánek 2019): balance on c_l n_l p_l and c_b n_b p_b with a
 //!   per-pixel factor c_i of each technique from a pilot pass, 1/V_i or 1 + mu_i^2/V_i, V_i
 //!   estimated (a) from the pilot samples of the pixel, (b) across the pixel means of 8 x 8 pixel
 //!   blocks (the authors' implementation), (c) across the pixel means of independent pilot
 //!   renders (the variance of the stratified pixel estimate itself: an oracle). Every weighting
-//!   is applied to the same samples (a host-side copy of the kernel's multi-sample estimator,
-//!   checked bit for bit against `camera_sample` under the balance heuristic), so the ratios
-//!   are paired; the pilot is not counted.
+//!   is applied to the same samples (a host-side copy of the kernel's multi-sample estimator with
+//!   the scene's light selection and sphere sampling, quads by area, no lobe mixing, checked bit
+//!   for bit against the kernel's `camera_sample` under the balance heuristic), so the ratios are
+//!   paired; the pilot is not counted.
 //!
 //! The reference is the kernel's balance heuristic at `--ref-spp` in two independent halves
 //! (their difference gives its own noise, subtracted from every figure), cached in the system's
@@ -32,12 +34,16 @@
 
 use std::path::PathBuf;
 
+use picomis::light::select::{ByContribution, ByPower, Select, Uniform};
+use picomis::light::sphere::{self, SphereSampler};
+use picomis::light::{lobe, quad};
 use picomis::num::Frame;
 use picomis::{
-    Estimate, Film, Heuristic, Hit, LightSampler, Method, QuadSampling, Ray, RenderSettings, Rgb, Sampler,
-    SamplerKind, Scene, ShadingPoint, Technique, Vec2, Vec3, camera_sample,
+    ControlVariate, Estimate, Film, Heuristic, Hit, LightSampler, LightSelection, Lights, LobeMixing, Method,
+    MisModel, Preset, QuadSampling, Ray, RenderSettings, Rgb, Sampler, SamplerKind, ShadingPoint,
+    SphereSampling, Technique, Vec2, Vec3,
 };
-use picomis_bench::{builtin_scenes, for_scene};
+use picomis_bench::{HOST_LIGHTS, HOST_MATERIALS, HOST_SHAPES, HostScene, builtin_scenes};
 use picomis_format::SceneFile;
 use rayon::prelude::*;
 
@@ -66,7 +72,7 @@ fn parse_args() -> Args {
         ref_spp: 8192,
         pilot_spp: 0,
         pilots: 8,
-        sampler: SamplerKind::default(),
+        sampler: Preset::Best.settings().sampler(),
     };
     let mut names = Vec::new();
     while let Some(a) = it.next() {
@@ -121,10 +127,9 @@ fn rgb64(c: Rgb) -> [f64; 3] {
 }
 
 /// The reflected light of every pixel at `settings` (the kernel), in parallel over rows.
-fn render_reflected<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    settings: &RenderSettings,
-) -> Vec<[f64; 3]> {
+fn render_reflected(scene: &HostScene, settings: &RenderSettings) -> Vec<[f64; 3]> {
+    let renderer = picomis_host::renderer(scene, settings).expect("settings the kernel accepts");
+    let renderer = &*renderer;
     let film = scene.film();
     (0..film.height())
         .into_par_iter()
@@ -132,7 +137,7 @@ fn render_reflected<const S: usize, const L: usize, const M: usize>(
             (0..film.width()).map(move |x| {
                 let mut sum = [0.0; 3];
                 for s in 0..settings.spp() {
-                    let e = camera_sample(scene, settings, x, y, s);
+                    let e = renderer.camera_sample(x, y, s);
                     let r = rgb64(e.light.contribution + e.bsdf.contribution);
                     (0..3).for_each(|c| sum[c] += r[c]);
                 }
@@ -143,11 +148,7 @@ fn render_reflected<const S: usize, const L: usize, const M: usize>(
 }
 
 /// The reference (balance, quads in solid angle, the default stream) and its own relative MSE.
-fn reference<const S: usize, const L: usize, const M: usize>(
-    name: &str,
-    scene: &Scene<S, L, M>,
-    spp: u32,
-) -> (Vec<[f64; 3]>, f64) {
+fn reference(name: &str, scene: &HostScene, spp: u32) -> (Vec<[f64; 3]>, f64) {
     let film = scene.film();
     let dir = std::env::temp_dir().join("picomis-beyond");
     let _ = std::fs::create_dir_all(&dir);
@@ -177,21 +178,27 @@ fn reference<const S: usize, const L: usize, const M: usize>(
     (r, noise)
 }
 
-fn has_rectangle_light<const S: usize, const L: usize, const M: usize>(scene: &Scene<S, L, M>) -> bool {
+fn has_rectangle_light(scene: &HostScene) -> bool {
     scene.lights().iter().any(|l| scene.light_shape(l).and_then(|s| s.as_rectangle()).is_some())
 }
 
 // ---------------------------------------------------------------------------------------------
 // quads
 
-fn quads<const S: usize, const L: usize, const M: usize>(file: &SceneFile, args: &Args) {
-    let scene = file.build_with_film::<S, L, M>(study_film(file)).unwrap_or_else(|e| panic!("{e}"));
+/// `file` built as the host's scene for [`study_film`].
+fn build(file: &SceneFile) -> HostScene {
+    file.build_with_film::<HOST_SHAPES, HOST_LIGHTS, HOST_MATERIALS>(study_film(file))
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn quads(file: &SceneFile, args: &Args) {
+    let scene = build(file);
     if !has_rectangle_light(&scene) {
         println!("{}: no rectangular quad light, skipped", file.name());
         return;
     }
     let (r, noise) = reference(file.name(), &scene, args.ref_spp);
-    let base = file.default_settings().expect("valid settings").with_sampler(args.sampler);
+    let base = file.default_settings().with_sampler(args.sampler);
     println!(
         "{} ({}x{}, {} spp, {} seeds, {}; reference noise {noise:.2e} subtracted)",
         file.name(),
@@ -245,13 +252,21 @@ struct Found {
     bsdf: Option<(Rgb, f32, f32)>,
 }
 
-fn camera_found<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
+/// The light sampler of the copy of the estimator: the strategies `Lt` in the host's scene.
+type Copy<'a, Lt> = LightSampler<'a, Lt, HOST_SHAPES, HOST_LIGHTS, HOST_MATERIALS>;
+
+/// The light strategies of the copy: light selection `Sel`, spheres by `Sp`, quads by area, no
+/// lobe mixing.
+type CopyLights<Sel, Sp> = Lights<Sel, Sp, quad::ByArea, lobe::Off>;
+
+fn camera_found<Sel: Select<HOST_LIGHTS>, Sp: SphereSampler>(
+    lights: &Copy<'_, CopyLights<Sel, Sp>>,
     settings: &RenderSettings,
     x: u32,
     y: u32,
     index: u32,
 ) -> Found {
+    let scene = lights.scene();
     let film = scene.film();
     let mut sampler = Sampler::with_kind(settings.sampler(), settings.seed(), y * film.width() + x, index);
     let jitter = sampler.next_2d();
@@ -259,25 +274,23 @@ fn camera_found<const S: usize, const L: usize, const M: usize>(
         Vec2::new((x as f32 + jitter.x) / film.width() as f32, (y as f32 + jitter.y) / film.height() as f32);
     let (ray, t_near) = scene.camera().ray(uv);
     match scene.intersect(&ray, t_near, f32::INFINITY, None) {
-        Some(hit) if hit.front => direct_found(scene, settings, &hit, -ray.dir, &mut sampler),
+        Some(hit) if hit.front => direct_found(lights, &hit, -ray.dir, &mut sampler),
         _ => Found::default(),
     }
 }
 
-fn direct_found<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    settings: &RenderSettings,
+fn direct_found<Sel: Select<HOST_LIGHTS>, Sp: SphereSampler>(
+    lights: &Copy<'_, CopyLights<Sel, Sp>>,
     x: &Hit,
     wo_world: Vec3,
     sampler: &mut Sampler,
 ) -> Found {
+    let scene = lights.scene();
     let mut found = Found::default();
     let Some(bsdf) = scene.material(x.object).filter(|m| !m.is_black()) else { return found };
     let frame = Frame::from_normal(x.point.n);
     let at = ShadingPoint { p: x.point.p, n: x.point.n, wo: wo_world, bsdf: *bsdf };
     let wo = frame.to_local(wo_world);
-    let lights = LightSampler::new(scene, settings.light_selection(), settings.sphere_sampling())
-        .with_quad_sampling(settings.quad_sampling());
     let selection = lights.selection_at(&at);
     // The light sample: one 2-D request chooses the light and, rescaled, places the point.
     let (u_select, v) = sampler.next_2d_reusable();
@@ -372,12 +385,12 @@ struct Pilot {
     first: Vec<[f64; 2]>,
 }
 
-fn pilot<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
+fn pilot<Sel: Select<HOST_LIGHTS>, Sp: SphereSampler>(
+    lights: &Copy<'_, CopyLights<Sel, Sp>>,
     settings: &RenderSettings,
     pilots: u32,
 ) -> Pilot {
-    let film = scene.film();
+    let film = lights.scene().film();
     let per_pixel: Vec<([Moments; 2], [Moments; 2], [f64; 2])> = (0..film.pixels())
         .into_par_iter()
         .map(|i| {
@@ -388,7 +401,7 @@ fn pilot<const S: usize, const L: usize, const M: usize>(
                 let s = settings.with_seed(0x9170_0000 + k);
                 let mut mean = [0.0; 2];
                 for index in 0..s.spp() {
-                    let (l, b) = unweighted(&camera_found(scene, &s, x, y, index));
+                    let (l, b) = unweighted(&camera_found(lights, &s, x, y, index));
                     if k == 0 {
                         per_sample[0].push(l);
                         per_sample[1].push(b);
@@ -448,28 +461,60 @@ fn factor(m: &[Moments; 2], second_moment: bool) -> f32 {
     }
 }
 
-fn weights<const S: usize, const L: usize, const M: usize>(file: &SceneFile, args: &Args) {
-    let scene = file.build_with_film::<S, L, M>(study_film(file)).unwrap_or_else(|e| panic!("{e}"));
+/// The weights study with the scene's light selection and sphere sampling, as the types the copy
+/// of the estimator is built for.
+fn weights(file: &SceneFile, args: &Args) {
+    let base = file.default_settings();
+    match (base.light_selection(), base.sphere_sampling()) {
+        (LightSelection::Uniform, SphereSampling::Area) => {
+            weights_with::<Uniform, sphere::ByArea>(file, args)
+        }
+        (LightSelection::Uniform, SphereSampling::Cone) => {
+            weights_with::<Uniform, sphere::InCone>(file, args)
+        }
+        (LightSelection::Power, SphereSampling::Area) => {
+            weights_with::<ByPower<HOST_LIGHTS>, sphere::ByArea>(file, args)
+        }
+        (LightSelection::Power, SphereSampling::Cone) => {
+            weights_with::<ByPower<HOST_LIGHTS>, sphere::InCone>(file, args)
+        }
+        (LightSelection::Contribution, SphereSampling::Area) => {
+            weights_with::<ByContribution<HOST_LIGHTS>, sphere::ByArea>(file, args)
+        }
+        (LightSelection::Contribution, SphereSampling::Cone) => {
+            weights_with::<ByContribution<HOST_LIGHTS>, sphere::InCone>(file, args)
+        }
+    }
+}
+
+fn weights_with<Sel: Select<HOST_LIGHTS>, Sp: SphereSampler>(file: &SceneFile, args: &Args) {
+    let scene = build(file);
     let film = scene.film();
     let (r, noise) = reference(file.name(), &scene, args.ref_spp);
-    let base = file.default_settings().expect("valid settings");
+    // The strategies of the copy of the estimator, named in full.
     let settings = RenderSettings::new(Method::Mis(Heuristic::Balance), 1, 1, args.spp, 1)
+        .and_then(|s| s.with_mis_model(MisModel::Multi))
+        .and_then(|s| s.with_control_variate(ControlVariate::Off))
         .expect("valid settings")
         .with_sampler(args.sampler)
-        .with_light_selection(base.light_selection())
-        .with_sphere_sampling(base.sphere_sampling());
+        .with_light_selection(Sel::KIND)
+        .with_sphere_sampling(Sp::KIND)
+        .with_quad_sampling(QuadSampling::Area)
+        .with_lobe_mixing(LobeMixing::Off);
+    let lights = Copy::<CopyLights<Sel, Sp>>::new(&scene);
+    let kernel = picomis_host::renderer(&scene, &settings).expect("settings the kernel accepts");
 
     // The copy of the estimator gives the kernel's bits under the balance heuristic.
     for (x, y, s) in
         [(film.width() / 2, film.height() / 2, 0), (3, film.height() - 2, 5), (film.width() / 3, 1, 2)]
     {
-        let e: Estimate = camera_sample(&scene, &settings, x, y, s);
-        let mine = weighted(&camera_found(&scene, &settings, x, y, s), Heuristic::Balance, 1.0);
+        let e: Estimate = kernel.camera_sample(x, y, s);
+        let mine = weighted(&camera_found(&lights, &settings, x, y, s), Heuristic::Balance, 1.0);
         assert_eq!(mine, e.light.contribution + e.bsdf.contribution, "{}: pixel ({x}, {y})", file.name());
     }
 
     let pilot_settings = settings.with_spp(args.pilot_spp).expect("spp > 0");
-    let p = pilot(&scene, &pilot_settings, args.pilots);
+    let p = pilot(&lights, &pilot_settings, args.pilots);
     let blocks = block_moments(&p, film);
     let power = Heuristic::Power { beta: 2.0 };
     let schemes: Vec<(&str, Heuristic, Vec<f32>)> = vec![
@@ -501,7 +546,7 @@ fn weights<const S: usize, const L: usize, const M: usize>(file: &SceneFile, arg
                 let (x, y) = (i % film.width(), i / film.width());
                 let mut sums = vec![[0.0; 3]; schemes.len()];
                 for index in 0..s.spp() {
-                    let f = camera_found(&scene, &s, x, y, index);
+                    let f = camera_found(&lights, &s, x, y, index);
                     for (k, (_, h, c)) in schemes.iter().enumerate() {
                         let v = rgb64(weighted(&f, *h, c[i as usize]));
                         (0..3).for_each(|ch| sums[k][ch] += v[ch] / f64::from(s.spp()));
@@ -537,8 +582,8 @@ fn main() {
     let args = parse_args();
     for file in &args.files {
         match args.mode.as_str() {
-            "quads" => for_scene!(file, quads, &args),
-            _ => for_scene!(file, weights, &args),
+            "quads" => quads(file, &args),
+            _ => weights(file, &args),
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Cost of a camera sample on one core: renders every pixel of a built-in scene or a scene file (default
-//! veach_mis) at SPP samples (default 4) with the scene's integrator block, the sampler named
-//! by the second argument (default: the default), the quad-light sampling named by the fourth
+//! veach_mis) at SPP samples (default 4) with the scene's integrator block (by the estimator of
+//! the settings, `picomis_host::renderer`), the sampler named by the second argument (default:
+//! the best preset's), the quad-light sampling named by the fourth
 //! (default: the scene's) and the method named by the fifth (default: the scene's),
 //! single-threaded, and prints ns per camera sample and a checksum of the bits. Small enough to
 //! run under `valgrind --tool=callgrind` for instruction counts per camera sample:
@@ -13,11 +14,11 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use picomis::{LightSelection, Method, QuadSampling, RenderSettings, SamplerKind, camera_sample};
-use picomis_bench::{build, builtin_scenes, for_scene};
+use picomis::{LightSelection, Method, Preset, QuadSampling, RenderSettings, SamplerKind};
+use picomis_bench::{builtin_scenes, host_scene};
 use picomis_format::SceneFile;
 
-fn run<const S: usize, const L: usize, const M: usize>(
+fn run(
     file: &SceneFile,
     sampler: SamplerKind,
     spp: u32,
@@ -25,12 +26,12 @@ fn run<const S: usize, const L: usize, const M: usize>(
     method: Option<Method>,
     selection: Option<LightSelection>,
 ) {
-    let scene = build::<S, L, M>(file);
-    let mut settings = file.default_settings().expect("valid built-in settings").with_sampler(sampler);
+    let scene = host_scene(file);
+    let mut settings = file.default_settings().with_sampler(sampler);
     let quads = quads.unwrap_or(settings.quad_sampling());
     settings = settings.with_quad_sampling(quads);
     if let Some(m) = method {
-        let (n_light, n_bsdf) = file.default_samples();
+        let (n_light, n_bsdf) = file.default_settings().sample_counts();
         settings = RenderSettings::new(m, n_light, n_bsdf, 1, settings.seed())
             .expect("valid settings")
             .with_sampler(sampler)
@@ -41,13 +42,14 @@ fn run<const S: usize, const L: usize, const M: usize>(
     if let Some(selection) = selection {
         settings = settings.with_light_selection(selection);
     }
+    let renderer = picomis_host::renderer(&scene, &settings).expect("settings the kernel accepts");
     let film = scene.film();
     let start = Instant::now();
     let mut checksum = 0u32;
     for s in 0..spp {
         for y in 0..film.height() {
             for x in 0..film.width() {
-                let e = black_box(camera_sample(&scene, &settings, x, y, s));
+                let e = black_box(renderer.camera_sample(x, y, s));
                 let r = e.radiance();
                 checksum = checksum.rotate_left(5) ^ r.x.to_bits() ^ r.y.to_bits() ^ r.z.to_bits();
             }
@@ -67,7 +69,8 @@ fn run<const S: usize, const L: usize, const M: usize>(
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let name = args.get(1).map_or("veach_mis", String::as_str);
-    let sampler = args.get(2).and_then(|s| SamplerKind::from_name(s)).unwrap_or_default();
+    let sampler =
+        args.get(2).and_then(|s| SamplerKind::from_name(s)).unwrap_or(Preset::Best.settings().sampler());
     let spp = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(4);
     let quads = args.get(4).map(|s| QuadSampling::from_name(s).expect("a quad sampling name"));
     let method = args.get(5).map(|s| Method::from_name(s).expect("a method name"));
@@ -79,5 +82,5 @@ fn main() {
         Some(f) => f.clone(),
         None => SceneFile::load(std::path::Path::new(name)).expect("a built-in scene name or a scene file"),
     };
-    for_scene!(&file, run, sampler, spp, quads, method, selection);
+    run(&file, sampler, spp, quads, method, selection);
 }

@@ -1,6 +1,8 @@
 //! Shared setup of the picomis Criterion benchmarks (`benches/`): the built-in scenes loaded
-//! from `scenes/*.json`, the methods under study, tables of random numbers, and synthetic scenes
-//! for the scaling curves. Nothing here is timed; the benchmarks time kernel calls only.
+//! from `scenes/*.json` (built as the host's one scene type, [`HostScene`], whose estimator for
+//! any settings is [`picomis_host::renderer`]), the methods under study, tables of random
+//! numbers, and synthetic scenes for the scaling curves. Nothing here is timed; the benchmarks
+//! time kernel calls only.
 //!
 //! Run them with `cargo bench -p picomis-bench` (a few minutes on 2 cores); one group with e.g.
 //! `cargo bench -p picomis-bench --bench camera_sample -- veach_mis`.
@@ -10,6 +12,7 @@ use std::time::Duration;
 
 use picomis::{CameraDesc, Film, FovAxis, Material, RenderSettings, Rgb, Sampler, Scene, Shape, Vec2, Vec3};
 use picomis_format::SceneFile;
+pub use picomis_host::{HOST_LIGHTS, HOST_MATERIALS, HOST_SHAPES, HostScene};
 
 /// Criterion samples per benchmark (kept small: `cargo bench -p picomis-bench` takes minutes).
 pub const SAMPLE_SIZE: usize = 20;
@@ -36,26 +39,14 @@ pub fn builtin_scenes() -> Vec<SceneFile> {
         .collect()
 }
 
-/// Capacities used for a scene file that is not built in.
-pub const GENEROUS: (usize, usize, usize) = (32, 16, 16);
-
-/// Calls `$f::<S, L, M>($file, $($arg),*)` with the exact capacities of a built-in scene (its own
-/// counts, as a firmware build uses, from `picomis-builtins`), or [`GENEROUS`] ones for any
-/// other file.
-#[macro_export]
-macro_rules! for_scene {
-    ($file:expr, $f:ident $(, $arg:expr)*) => {{
-        let file: &picomis_format::SceneFile = $file;
-        picomis_builtins::with_builtin_capacities!(
-            file.name(),
-            <S, L, M> => $f::<S, L, M>(file $(, $arg)*),
-            _ => $f::<{ $crate::GENEROUS.0 }, { $crate::GENEROUS.1 }, { $crate::GENEROUS.2 }>(file $(, $arg)*)
-        )
-    }};
+/// Builds `file` as the host's scene (panics on a bad built-in scene: a bench setup error, not
+/// user data).
+pub fn host_scene(file: &SceneFile) -> HostScene {
+    build::<HOST_SHAPES, HOST_LIGHTS, HOST_MATERIALS>(file)
 }
 
-/// Builds `file` with capacities `S`, `L`, `M` (panics on a bad built-in scene: a bench setup
-/// error, not user data).
+/// Builds `file` with capacities `S`, `L`, `M` (for the benchmarks of typed kernel parts; panics
+/// on a bad built-in scene).
 pub fn build<const S: usize, const L: usize, const M: usize>(file: &SceneFile) -> Scene<S, L, M> {
     file.build::<S, L, M>().unwrap_or_else(|e| panic!("{e}"))
 }
@@ -135,12 +126,13 @@ impl Default for Inputs {
     }
 }
 
-/// Capacities of the synthetic scaling scenes.
-pub const SYNTH_SHAPES: usize = 64;
-/// Light capacity of the synthetic scaling scenes.
+/// Most shapes of a synthetic scaling scene (the host's capacity).
+pub const SYNTH_SHAPES: usize = HOST_SHAPES;
+/// Most lights of a synthetic scaling scene (its light slots).
 pub const SYNTH_LIGHTS: usize = 16;
-/// A synthetic scaling scene.
-pub type SynthScene = Scene<SYNTH_SHAPES, SYNTH_LIGHTS, 4>;
+/// A synthetic scaling scene: a host scene, rendered with any settings by
+/// [`picomis_host::renderer`].
+pub type SynthScene = HostScene;
 
 /// A synthetic scene: a diffuse floor quad; `visible` spheres on a 9 x 7 grid on the floor
 /// (alternately diffuse and glossy); and `slots` small spheres on a 4 x 4 grid high above, out of
@@ -208,15 +200,18 @@ mod tests {
 
     #[test]
     fn builtin_scenes_build_and_synthetic_scenes_hold_their_counts() {
-        fn counts<const S: usize, const L: usize, const M: usize>(f: &SceneFile) -> (usize, usize) {
-            let s = build::<S, L, M>(f);
-            (s.objects().len(), s.lights().len())
-        }
         let scenes = builtin_scenes();
         assert!(scenes.len() >= 5);
         for f in &scenes {
-            let (s, l) = for_scene!(f, counts);
+            let scene = host_scene(f);
+            let (s, l) = (scene.objects().len(), scene.lights().len());
             assert_eq!((s, l), (f.counts().shapes, f.counts().lights), "{}", f.name());
+            // With their own counts as capacities too (a firmware's build), every slot used.
+            let own = picomis_builtins::with_builtin_capacities!(f.name(), <S, L, M> => {
+                let scene = build::<S, L, M>(f);
+                (scene.objects().len(), scene.lights().len(), S, L)
+            });
+            assert_eq!(own, Some((s, l, s, l)), "{}", f.name());
         }
         let s = synthetic_scene(47, 16, 16);
         assert_eq!((s.objects().len(), s.lights().len()), (64, 16));

@@ -13,9 +13,9 @@
 
 use std::path::PathBuf;
 
-use picomis::{Estimate, LightSelection, RenderSettings, Rgb, SamplerKind, Scene};
+use picomis::{Estimate, LightSelection, RenderSettings, Rgb, SamplerKind};
 use picomis_sim::render::progress_bar;
-use picomis_sim::scenes::{self, BUILTINS, Loaded, SceneVisitor};
+use picomis_sim::scenes::{self, BUILTINS, HostScene, Loaded};
 use picomis_sim::study::{load_average, metrics, reference, study_film, timed};
 
 /// One configuration: a sample stream and a light selection.
@@ -59,14 +59,12 @@ struct Job<'a> {
     cache: PathBuf,
 }
 
-impl SceneVisitor for Job<'_> {
-    type Output = ();
-
-    fn visit<const S: usize, const L: usize, const M: usize>(self, scene: Scene<S, L, M>) {
+impl Job<'_> {
+    fn run(self, scene: &HostScene) {
         let name = self.loaded.file.name();
-        let samples = self.loaded.file.default_samples();
-        let method = self.loaded.file.default_method();
-        let reference = reference::get(&scene, self.loaded, &self.cache, self.ref_spp, samples, "")
+        let samples = self.loaded.file.default_settings().sample_counts();
+        let method = self.loaded.file.default_settings().method();
+        let reference = reference::get(scene, self.loaded, &self.cache, self.ref_spp, samples, "")
             .unwrap_or_else(|e| panic!("{name}: reference: {e}"));
         let film = scene.film();
         println!(
@@ -92,7 +90,8 @@ impl SceneVisitor for Job<'_> {
                         .expect("the scene's settings")
                         .with_sampler(c.sampler)
                         .with_light_selection(c.selection);
-                    let (img, seconds) = timed(&scene, &settings, &bar);
+                    let (img, seconds) =
+                        timed(scene, &settings, &bar).unwrap_or_else(|e| panic!("{name}: {e}"));
                     let reflected: Vec<Rgb> =
                         img.iter().map(|e: &Estimate| e.light.contribution + e.bsdf.contribution).collect();
                     r.0 += metrics::error(&reflected, &reference.reflected).rel_mse;
@@ -136,6 +135,6 @@ fn main() {
         let loaded = scenes::load(Some(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
         let film = study_film(loaded.file.film(), None).expect("study film");
         let job = Job { loaded: &loaded, spps: &spps, seeds, ref_spp, cache: cache.clone() };
-        loaded.visit(film, job).unwrap_or_else(|e| panic!("{name}: {e}"));
+        job.run(&loaded.build(film).unwrap_or_else(|e| panic!("{name}: {e}")));
     }
 }

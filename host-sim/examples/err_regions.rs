@@ -7,9 +7,9 @@
 //! `cargo run --release -p picomis-sim --example err_regions`; environment: `SPP` (64), `SEEDS`
 //! (4), `SELECTION` (contribution), `SAMPLER` (sobol), `BETA` (the scene's).
 
-use picomis::{Estimate, LightSelection, Method, RenderSettings, Rgb, SamplerKind, Scene, Vec2};
+use picomis::{Estimate, LightSelection, Method, RenderSettings, Rgb, SamplerKind, Vec2};
 use picomis_sim::render::{progress_bar, render_estimates};
-use picomis_sim::scenes::{self, SceneVisitor};
+use picomis_sim::scenes::{self, HostScene};
 use picomis_sim::study::reference;
 
 fn env<T: std::str::FromStr>(name: &str, default: T) -> T {
@@ -24,9 +24,8 @@ struct Job {
     seeds: u32,
 }
 
-impl SceneVisitor for Job {
-    type Output = ();
-    fn visit<const S: usize, const L: usize, const M: usize>(self, scene: Scene<S, L, M>) {
+impl Job {
+    fn run(self, scene: &HostScene) {
         let film = scene.film();
         let (w, h) = (film.width(), film.height());
         let reference = reference::mitsuba(None, w, h).expect("reference");
@@ -41,7 +40,7 @@ impl SceneVisitor for Job {
             .collect();
         let bar = progress_bar(u64::from(self.seeds) * u64::from(h) * u64::from(self.settings.spp()), "err");
         let images: Vec<Vec<Estimate>> = (0..self.seeds)
-            .map(|s| render_estimates(&scene, &self.settings.with_seed(s), &bar).pixels)
+            .map(|s| render_estimates(scene, &self.settings.with_seed(s), &bar).expect("settings").pixels)
             .collect();
         bar.finish_and_clear();
         let k = f64::from(self.seeds);
@@ -139,13 +138,13 @@ impl SceneVisitor for Job {
 
 fn main() {
     let loaded = scenes::load(Some("veach_mis")).expect("veach");
-    let mut settings = loaded.file.default_settings().expect("settings");
+    let mut settings = loaded.file.default_settings();
     let spp = env("SPP", 64u32);
     let selection =
         LightSelection::from_name(&env("SELECTION", "contribution".to_string())).expect("selection");
     let sampler = SamplerKind::from_name(&env("SAMPLER", "sobol".to_string())).expect("sampler");
     if let Ok(beta) = std::env::var("BETA") {
-        let (nl, nb) = loaded.file.default_samples();
+        let (nl, nb) = settings.sample_counts();
         let m = Method::from_name("power")
             .expect("power")
             .with_parameters(beta.parse().ok(), None)
@@ -157,5 +156,5 @@ fn main() {
     }
     let settings = settings.with_spp(spp).expect("spp").with_light_selection(selection).with_sampler(sampler);
     let job = Job { settings, seeds: env("SEEDS", 4u32).max(2) };
-    loaded.visit(loaded.file.film(), job).expect("visit");
+    job.run(&loaded.build(loaded.file.film()).expect("scene"));
 }

@@ -3,7 +3,9 @@
 //! MIS weights (false colour with a legend) and weighted contributions.
 
 use embedded_graphics_core::pixelcolor::RgbColor;
-use picomis::{ControlVariate, Estimate, Heuristic, Method, Preset, RenderSettings, Rgb, TechniqueEstimate, tone_map};
+use picomis::{
+    ControlVariate, Estimate, Heuristic, Method, Preset, RenderSettings, Rgb, TechniqueEstimate, tone_map,
+};
 use picomis_format::IntegratorDesc;
 
 use crate::SimError;
@@ -33,7 +35,9 @@ fn weights_panel() -> usize {
 fn methods() -> Result<Vec<Method>, SimError> {
     METHODS
         .iter()
-        .map(|(name, _)| Method::from_name(name).ok_or_else(|| SimError::Usage(format!("unknown method {name:?}"))))
+        .map(|(name, _)| {
+            Method::from_name(name).ok_or_else(|| SimError::Usage(format!("unknown method {name:?}")))
+        })
         .collect()
 }
 
@@ -96,9 +100,13 @@ pub fn figure_settings(
     seed: u32,
     flags: &IntegratorDesc,
 ) -> Result<Vec<RenderSettings>, SimError> {
-    for (set, flag) in [(flags.mis.is_some(), "--mis"), (flags.beta.is_some(), "--beta"), (flags.alpha.is_some(), "--alpha")] {
+    for (set, flag) in
+        [(flags.mis.is_some(), "--mis"), (flags.beta.is_some(), "--beta"), (flags.alpha.is_some(), "--alpha")]
+    {
         if set {
-            return Err(SimError::Usage(format!("{flag}: the figure renders its own methods (one per panel)")));
+            return Err(SimError::Usage(format!(
+                "{flag}: the figure renders its own methods (one per panel)"
+            )));
         }
     }
     let base = crate::cli::integrator(loaded, flags, Some(Preset::Lecture), spp, seed)?;
@@ -111,7 +119,9 @@ pub fn figure_settings(
         .into_iter()
         .map(|method| {
             base.with_method(method)
-                .or_else(|_| base.with_control_variate(ControlVariate::Off).and_then(|b| b.with_method(method)))
+                .or_else(|_| {
+                    base.with_control_variate(ControlVariate::Off).and_then(|b| b.with_method(method))
+                })
                 .map_err(|e| SimError::Usage(format!("settings: {e}")))
         })
         .collect()

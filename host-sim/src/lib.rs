@@ -4,8 +4,9 @@
 //! `no_std` kernel on all cores, writes PNG, EXR, PFM or raw RGB565 images, and draws the
 //! lecture's MIS figure (Veach and Guibas 1995). The binary `picomis-sim` is a thin command line over this library.
 //!
-//! Every pixel is `picomis::render_pixel`, whose random numbers depend only on the seed, the
-//! pixel and the camera sample: images do not depend on the number of threads.
+//! Every pixel is the kernel's `render_pixel` of the estimator for the render's settings
+//! ([`picomis_host::renderer`]), whose random numbers depend only on the seed, the pixel and the
+//! camera sample: images do not depend on the number of threads.
 //!
 //! ```text
 //! picomis-sim scenes                                   # the built-in scenes, one line each
@@ -17,9 +18,9 @@
 //! picomis-sim serve                                    # the browser page (web/) at http://127.0.0.1:8000/
 //! ```
 //!
-//! Built-in scenes are built with their own capacities (`Scene<S, L, M>` from their counts, as a
-//! firmware build would); other files with [`scenes::HOST_SHAPES`], [`scenes::HOST_LIGHTS`] and
-//! [`scenes::HOST_MATERIALS`]. Bad scene files and flag values print
+//! Every scene, built-in or file, is built as the host's one scene type ([`scenes::HostScene`]:
+//! [`scenes::HOST_SHAPES`] shapes, [`scenes::HOST_LIGHTS`] lights and [`scenes::HOST_MATERIALS`]
+//! materials). Bad scene files and flag values print
 //! `error: <file>: <entry>: <reason>` (or `error: <flag>: <reason>`) and exit with code 2.
 #![deny(missing_docs)]
 

@@ -85,7 +85,8 @@ impl RenderBatch<'_> {
         let steps = self.settings.iter().map(|s| u64::from(film.height()) * u64::from(s.spp())).sum();
         let bar = progress_bar(steps, self.message);
         let start = Instant::now();
-        let images = self.settings.iter().map(|s| render_estimates(scene, s, &bar)).collect::<Result<_, _>>()?;
+        let images =
+            self.settings.iter().map(|s| render_estimates(scene, s, &bar)).collect::<Result<_, _>>()?;
         let elapsed = start.elapsed();
         bar.finish_and_clear();
         let camera_samples =

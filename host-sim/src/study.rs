@@ -20,8 +20,11 @@
 //! its pixel-edge noise would otherwise add the same floor to every method. `--include-emitted`
 //! measures the full radiance instead.
 //!
-//! The methods are the kernel's list ([`picomis_host::study::study_methods`]). The modules, none of
-//! which reads this one (each reads only modules further down the list):
+//! The methods are the host's list ([`picomis_host::study::study_methods`]), then "defaults": the
+//! scene's own integrator, as `picomis-sim render` would render it (the best preset, the scene
+//! file's integrator block, and the integrator flags of the command line over both;
+//! [`methods`]). The modules, none of which reads this one (each reads only modules further down
+//! the list):
 //! - `report` (charts with `chart`, the equal-time grid with `grid`, CSV, summary) and
 //!   `region_report` (the region table and heat maps; it reads `report`'s writers) write the
 //!   outputs;
@@ -29,6 +32,7 @@
 //! - `results` holds what they measure;
 //! - `regions` finds the plate x light regions and renders each light alone;
 //! - `reference` makes (or reads from the cache) the converged references;
+//! - `methods` lists the methods;
 //! - `measure` does one render (through [`crate::render`]), `metrics` the errors, `args` the
 //!   command line.
 
@@ -37,6 +41,7 @@ mod chart;
 mod grid;
 mod job;
 mod measure;
+pub mod methods;
 pub mod metrics;
 pub mod reference;
 mod region_report;
@@ -51,6 +56,7 @@ use crate::scenes::{self, BUILTINS, Loaded};
 
 pub use args::{StudyArgs, ladder, study_film};
 pub use measure::timed;
+pub use methods::{DEFAULTS, defaults_index, methods};
 pub use picomis_host::study::{Extras, StudyMethod, study_methods};
 pub use report::load_average;
 pub use results::{EqualTime, Record, SceneStudy, balance_index, cost_per_spp, index_of};
@@ -70,7 +76,7 @@ pub fn run(args: &StudyArgs) -> Result<(), SimError> {
     eprintln!(
         "study: {} scene(s), {} methods, spp {:?}, {} seed(s), reference {} spp, {} threads -> {}",
         loaded.len(),
-        study_methods().len(),
+        methods().len(),
         args.ladder(),
         args.seeds,
         ref_spp,
@@ -81,7 +87,8 @@ pub fn run(args: &StudyArgs) -> Result<(), SimError> {
     let mut studies = Vec::new();
     for l in &loaded {
         let film = args.film(l.file.film())?;
-        let study = l.visit(film, job::SceneJob { loaded: l, args, cache: &cache })??;
+        let scene = l.build(film)?;
+        let study = job::SceneJob { loaded: l, args, cache: &cache }.run(&scene)?;
         report::write_scene(&args.out, &study, args.include_emitted)?;
         region_report::write_regions(&args.out, &study)?;
         studies.push(study);
@@ -108,6 +115,7 @@ mod tests {
             ref_spp: Some(8),
             mitsuba_ref: None,
             include_emitted: false,
+            integrator: picomis_format::IntegratorDesc::default(),
         }
     }
 
@@ -129,8 +137,10 @@ mod tests {
         }
         let csv = std::fs::read_to_string(dir.path().join("results.csv")).unwrap();
         // Header, then every method x 2 rungs x 2 seeds.
-        assert_eq!(csv.lines().count(), 1 + study_methods().len() * 2 * 2);
+        assert_eq!(csv.lines().count(), 1 + methods().len() * 2 * 2);
         assert!(csv.lines().nth(1).unwrap().starts_with("lambert_sphere,bsdf,1,1,16,12,"));
+        // The scene's own integrator is one of the methods.
+        assert_eq!(csv.lines().filter(|l| l.starts_with("lambert_sphere,defaults,")).count(), 2 * 2);
         let cache: Vec<_> = std::fs::read_dir(dir.path().join("cache")).unwrap().collect();
         assert_eq!(cache.len(), 3, "reflected, full and info");
         // A second run takes the cached reference (8 spp) instead of rendering another.
@@ -172,7 +182,7 @@ mod tests {
         );
         // Every other method ran; the rejected one has one CSV row with its reason and no render.
         let csv = std::fs::read_to_string(dir.path().join("results.csv")).unwrap();
-        assert_eq!(csv.lines().count(), 1 + (study_methods().len() - 1) + 1);
+        assert_eq!(csv.lines().count(), 1 + (methods().len() - 1) + 1);
         let rejected: Vec<&str> = csv.lines().filter(|l| l.starts_with("tiny_light,power_fixed,")).collect();
         assert_eq!(rejected.len(), 1, "{csv}");
         assert!(rejected[0].starts_with("tiny_light,power_fixed,,,") && rejected[0].contains("too small"));

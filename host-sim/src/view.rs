@@ -1,7 +1,8 @@
 //! `picomis-sim view`: the device's display on the desktop. An `embedded-graphics-simulator`
 //! window at the panel's resolution (default: the M4F board's 160x120 Rgb565) shows the scene
-//! rendered progressively, tile by tile, through the kernel's own `render` into the simulator's
-//! `DrawTarget`: the same code path and the same Rgb565 values as the firmware. Pass k renders
+//! rendered progressively, tile by tile, by the kernel's estimator for the settings
+//! (`picomis_host::renderer`) into the simulator's `DrawTarget`, in the pixel order and with the
+//! Rgb565 values of the kernel's own `render` (the firmware's path). Pass k renders
 //! 2^k samples per pixel from scratch, so the image shown after the pass of N spp is exactly
 //! `picomis-sim render --spp N --out F.rgb565` (tested under Xvfb, `tests/window.rs`).
 //!
@@ -13,12 +14,13 @@ use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::Size;
 use embedded_graphics_core::pixelcolor::{Rgb565, Rgb888};
 use picomis::{
-    Estimate, Heuristic, LightSelection, LobeMixing, Method, RenderSettings, RenderStats, Scene,
+    Estimate, Film, Heuristic, LightSelection, LobeMixing, Method, RenderSettings, RenderStats,
     SphereSampling,
 };
+use picomis_format::IntegratorDesc;
+use picomis_host::Renderer;
 
 use crate::SimError;
-use crate::cli::{OnOff, selection_parser, sphere_sampling_parser};
 use crate::figure;
 use crate::scenes::Loaded;
 
@@ -47,26 +49,11 @@ pub struct ViewArgs {
     /// Magnification of the window: each display pixel is scale x scale screen pixels.
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=16))]
     pub scale: u32,
-    /// Starting method: bsdf, light, average, balance, power, maximum or cutoff (default: the
-    /// scene's integrator block).
-    #[arg(long, value_name = "M")]
-    pub mis: Option<String>,
-    /// Starting power-heuristic exponent.
-    #[arg(long, value_name = "B", default_value_t = 2.0)]
-    pub beta: f32,
-    /// Starting cutoff-heuristic threshold.
-    #[arg(long, value_name = "A", default_value_t = 0.1)]
-    pub alpha: f32,
-    /// How sphere lights are sampled.
-    #[arg(long, value_name = "S", value_parser = sphere_sampling_parser(), default_value_t = SphereSampling::DEFAULT)]
-    pub sphere_sampling: SphereSampling,
-    /// How a light is chosen among several (default: the scene's integrator block, else the
-    /// kernel's default).
-    #[arg(long, value_name = "S", value_parser = selection_parser())]
-    pub light_selection: Option<LightSelection>,
-    /// Light samples also from a glossy receiver's lobe.
-    #[arg(long, value_enum, default_value_t = OnOff::Off)]
-    pub lobe_mixing: OnOff,
+    /// The starting integrator: every key of a scene file's integrator block, as a flag (the
+    /// scene file's block over the best preset, these flags over both; the keys then change the
+    /// method, beta, alpha, light selection, sphere sampling and lobe mixing).
+    #[command(flatten)]
+    pub integrator: IntegratorDesc,
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
@@ -150,8 +137,8 @@ pub enum Action {
 pub const KEYS: &str = "keys: m/M method, v/V view, b/B beta +-0.5, a/A alpha +-0.05, l light selection, \
 s sphere sampling, g lobe mixing, p save PNG, q quit";
 
-/// What the keys change: method, view, beta, alpha, light selection, sphere sampling and lobe
-/// mixing.
+/// What the keys change: method, view, beta, alpha, and in the settings the light selection,
+/// sphere sampling and lobe mixing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ViewState {
     /// Index into [`Method::ALL`].
@@ -162,16 +149,10 @@ pub struct ViewState {
     pub beta: f32,
     /// Cutoff-heuristic threshold.
     pub alpha: f32,
-    /// Light selection.
-    pub selection: LightSelection,
-    /// Sphere sampling.
-    pub spheres: SphereSampling,
-    /// Lobe mixing.
-    pub lobe: LobeMixing,
-    /// Light and BSDF samples per camera sample (the scene's).
-    pub samples: (u16, u16),
-    /// Seed.
-    pub seed: u32,
+    /// The rest of the settings (1 spp): the scene's integrator with the flags, then the keys'
+    /// light selection, sphere sampling and lobe mixing. Its method is replaced by the one of
+    /// [`Self::method`], [`Self::beta`] and [`Self::alpha`] in each pass's settings.
+    pub base: RenderSettings,
 }
 
 /// The method `Method::ALL[index]` with `beta` and `alpha` (the one place the view turns its
@@ -187,46 +168,27 @@ pub fn method_name_at(index: usize) -> &'static str {
 }
 
 impl ViewState {
-    /// The starting state from the scene and the flags.
+    /// The starting state from the scene and the flags: the integrator that `picomis-sim render`
+    /// would use ([`crate::cli::integrator`]), at 1 spp.
     pub fn new(loaded: &Loaded, args: &ViewArgs) -> Result<Self, SimError> {
-        let name = args.mis.clone().unwrap_or_else(|| loaded.file.default_method().name().to_string());
-        let parsed: Method = name.parse().map_err(|e| SimError::Usage(format!("--mis {name}: {e}")))?;
-        let method = Method::ALL.iter().position(|m| m.name() == parsed.name()).unwrap_or(0);
-        let (mut beta, mut alpha) = (args.beta, args.alpha);
-        match loaded.file.default_method() {
-            Method::Mis(Heuristic::Power { beta: b }) if args.mis.is_none() => beta = b,
-            Method::Mis(Heuristic::Cutoff { alpha: a }) if args.mis.is_none() => alpha = a,
-            _ => {}
-        }
+        let base = crate::cli::integrator(loaded, &args.integrator, None, 1, args.seed)?;
+        let start = base.method();
+        let method = Method::ALL.iter().position(|m| m.name() == start.name()).unwrap_or(0);
         let state = ViewState {
             method,
             view: View::Image,
-            beta,
-            alpha,
-            selection: args.light_selection.unwrap_or(loaded.file.default_light_selection()),
-            spheres: args.sphere_sampling,
-            lobe: match args.lobe_mixing {
-                OnOff::On => LobeMixing::On,
-                OnOff::Off => LobeMixing::Off,
-            },
-            samples: loaded.file.default_samples(),
-            seed: args.seed,
+            beta: start.beta().unwrap_or(Heuristic::DEFAULT_BETA),
+            alpha: start.alpha().unwrap_or(Heuristic::DEFAULT_ALPHA),
+            base,
         };
-        state
-            .settings(1)
-            .map_err(|e| SimError::Usage(format!("--mis {name} --beta {beta} --alpha {alpha}: {e}")))?;
+        state.settings(1).map_err(|e| SimError::Usage(format!("{}: {e}", loaded.file.name())))?;
         Ok(state)
     }
 
     /// The render settings of a pass with `spp` samples per pixel.
     pub fn settings(&self, spp: u32) -> Result<RenderSettings, String> {
         let method = method_at(self.method, self.beta, self.alpha)?;
-        let (n_light, n_bsdf) = self.samples;
-        let s = RenderSettings::new(method, n_light, n_bsdf, spp, self.seed).map_err(|e| e.to_string())?;
-        s.with_light_selection(self.selection)
-            .with_sphere_sampling(self.spheres)
-            .with_lobe_mixing(self.lobe)
-            .map_err(|e| e.to_string())
+        self.base.with_method(method).and_then(|s| s.with_spp(spp)).map_err(|e| e.to_string())
     }
 
     /// The method with its parameter, for the status line.
@@ -240,8 +202,8 @@ impl ViewState {
 
     /// Light selection, sphere sampling and lobe mixing, for the status line.
     pub fn sampling_label(&self) -> String {
-        let lobe = if self.lobe == LobeMixing::On { ", lobe" } else { "" };
-        format!("{}, {}{lobe}", self.selection.name(), self.spheres.name())
+        let lobe = if self.base.lobe_mixing() == LobeMixing::On { ", lobe" } else { "" };
+        format!("{}, {}{lobe}", self.base.light_selection().name(), self.base.sphere_sampling().name())
     }
 
     /// Applies a key; true if the image must be rendered again. Methods the scene cannot use
@@ -249,6 +211,11 @@ impl ViewState {
     /// alpha in [0, 1].
     pub fn apply(&mut self, action: Action) -> bool {
         let step = |i: usize, d: i32, n: usize| (i as i64 + i64::from(d)).rem_euclid(n as i64) as usize;
+        /// The option after `current` in `all`.
+        fn next<T: Copy + PartialEq>(all: &[T], current: T) -> T {
+            let i = all.iter().position(|&c| c == current).unwrap_or(0);
+            all[(i + 1) % all.len()]
+        }
         match action {
             Action::Method(d) => {
                 let start = self.method;
@@ -276,21 +243,18 @@ impl ViewState {
                 self.alpha != old && method_name_at(self.method) == "cutoff"
             }
             Action::LightSelection => {
-                let all = LightSelection::ALL;
-                let i = all.iter().position(|&s| s == self.selection).unwrap_or(0);
-                self.selection = all[step(i, 1, all.len())];
+                let selection = next(&LightSelection::ALL, self.base.light_selection());
+                self.base = self.base.with_light_selection(selection);
                 true
             }
             Action::SphereSampling => {
-                let all = SphereSampling::ALL;
-                let i = all.iter().position(|&s| s == self.spheres).unwrap_or(0);
-                self.spheres = all[step(i, 1, all.len())];
+                let spheres = next(&SphereSampling::ALL, self.base.sphere_sampling());
+                self.base = self.base.with_sphere_sampling(spheres);
                 true
             }
             Action::LobeMixing => {
-                let all = LobeMixing::ALL;
-                let i = all.iter().position(|&l| l == self.lobe).unwrap_or(0);
-                self.lobe = all[step(i, 1, all.len())];
+                let lobe = next(&LobeMixing::ALL, self.base.lobe_mixing());
+                self.base = self.base.with_lobe_mixing(lobe);
                 true
             }
             Action::Save | Action::Quit => false,
@@ -303,12 +267,14 @@ pub fn pass_spp(k: u32) -> u32 {
     1u32 << k.min(31)
 }
 
-/// One pass into `target`: the image through the kernel's `render` (exactly the firmware's
-/// path), or another view through `render_pixel` and the figure's colours, tile by tile in the
-/// same order.
-pub fn render_pass<D, const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    settings: &RenderSettings,
+/// One pass of `renderer` (the estimator of a scene whose film is `film`, with the pass's
+/// settings) into `target`, tile by tile in the order of `picomis::tiles`, each tile row by row
+/// through `fill_contiguous`: the pixel order and colours of the kernel's
+/// `Integrator::render_tile` (`Rgb565::from(tone_map(radiance))`, the firmware's path) for the
+/// image, the figure's colours for the other views.
+pub fn render_pass<D>(
+    renderer: &dyn Renderer,
+    film: Film,
     view: View,
     tile: u32,
     target: &mut D,
@@ -316,19 +282,16 @@ pub fn render_pass<D, const S: usize, const L: usize, const M: usize>(
 where
     D: DrawTarget<Color = Rgb565>,
 {
-    let tile = Size::new(tile, tile);
-    if view == View::Image {
-        return picomis::render(scene, settings, tile, target, |_, _| {});
-    }
+    let spp = renderer.settings().spp();
     let mut total = RenderStats::default();
-    for area in picomis::tiles(scene.film(), tile) {
+    for area in picomis::tiles(film, Size::new(tile, tile)) {
+        // `tiles` cuts the film itself: every tile lies inside it.
         let (x0, y0) = (area.top_left.x as u32, area.top_left.y as u32);
         let (w, h) = (area.size.width, area.size.height);
-        let colors = (y0..y0 + h).flat_map(|y| {
-            (x0..x0 + w).map(move |x| Rgb565::from(view.color(&picomis::render_pixel(scene, settings, x, y))))
-        });
+        let colors = (y0..y0 + h)
+            .flat_map(|y| (x0..x0 + w).map(move |x| Rgb565::from(view.color(&renderer.render_pixel(x, y)))));
         target.fill_contiguous(&area, colors)?;
-        total.add(&RenderStats::new(w * h, settings.spp()));
+        total.add(&RenderStats::new(w * h, spp));
     }
     Ok(total)
 }
@@ -337,7 +300,7 @@ where
 pub fn run(args: &ViewArgs) -> Result<(), SimError> {
     let loaded = crate::scenes::load(args.scene.as_deref())?;
     let state = ViewState::new(&loaded, args)?;
-    let film = picomis::Film::new(args.width, args.height)
+    let film = Film::new(args.width, args.height)
         .map_err(|e| SimError::Usage(format!("--width {} --height {}: {e}", args.width, args.height)))?;
     #[cfg(feature = "window")]
     {
@@ -359,10 +322,35 @@ mod tests {
     use super::*;
 
     fn state() -> ViewState {
+        state_with(&[])
+    }
+
+    /// The starting state of `picomis-sim view FLAGS` on the Veach scene.
+    fn state_with(flags: &[&str]) -> ViewState {
         let loaded = crate::scenes::load(Some("veach_mis")).unwrap();
-        let args = <crate::cli::Cli as clap::Parser>::parse_from(["picomis-sim", "view"]);
+        let args =
+            <crate::cli::Cli as clap::Parser>::parse_from([&["picomis-sim", "view"][..], flags].concat());
         let crate::cli::Command::View(args) = args.command else { panic!("not view") };
         ViewState::new(&loaded, &args).unwrap()
+    }
+
+    #[test]
+    fn the_integrator_flags_start_the_view_where_render_starts() {
+        let flags = ["--mis", "cutoff", "--alpha", "0.2", "--light-selection", "power", "--seed", "5"];
+        let s = state_with(&flags);
+        assert_eq!((method_name_at(s.method), s.alpha), ("cutoff", 0.2));
+        assert_eq!(s.sampling_label(), "power, cone");
+        // A pass of N spp has the settings of `picomis-sim render --spp N` with the same flags.
+        let loaded = crate::scenes::load(Some("veach_mis")).unwrap();
+        let cli = <crate::cli::Cli as clap::Parser>::parse_from(
+            [&["picomis-sim", "render", "--spp", "8"][..], &flags].concat(),
+        );
+        let crate::cli::Command::Render(args) = cli.command else { panic!("not render") };
+        assert_eq!(s.settings(8).ok(), crate::cli::settings(&loaded, &args).ok());
+        // Flags the kernel refuses are usage errors, as for render.
+        let cli = <crate::cli::Cli as clap::Parser>::parse_from(["picomis-sim", "view", "--c-light", "0.5"]);
+        let crate::cli::Command::View(args) = cli.command else { panic!("not view") };
+        assert!(matches!(ViewState::new(&loaded, &args), Err(SimError::Usage(_))));
     }
 
     #[test]
@@ -399,7 +387,9 @@ mod tests {
         assert_eq!(views.last(), Some(&View::Image));
         assert_eq!(views.len(), View::ALL.len());
         assert!(s.apply(Action::LightSelection) && s.apply(Action::SphereSampling));
-        assert!(s.apply(Action::LobeMixing) && s.lobe == LobeMixing::On && s.settings(1).is_ok());
+        assert!(
+            s.apply(Action::LobeMixing) && s.base.lobe_mixing() == LobeMixing::On && s.settings(1).is_ok()
+        );
         assert_eq!(s.sampling_label(), "power, area, lobe");
         assert!(!s.apply(Action::Save));
     }

@@ -124,7 +124,7 @@ fn degenerate_quads() {
 
 #[test]
 fn too_many_objects_for_the_build() {
-    // Files get the host capacity of 64 shapes (built-in scenes get their own counts).
+    // Scenes get the host capacity of 64 shapes.
     let mut v = lambert();
     let shapes = v["shapes"].as_array_mut().unwrap();
     for i in 0..70 {
@@ -182,7 +182,8 @@ fn bad_flag_values() {
         (&["--frobnicate"], "unexpected argument '--frobnicate'"),
         (&["--mis-model", "one", "--c-light", "1.5"], "c_light is out of range"),
         (&["--mis-model", "one", "--c-light", "nan"], "c_light is not a finite number"),
-        (&["--c-light", "0.5"], "only the one-sample model (--mis-model one) has a c"),
+        // (The reason names the key as a scene file does: picomis-format's message.)
+        (&["--c-light", "0.5"], "--c-light: 0.5: only the one-sample model (mis_model one) has a c"),
         (&["--mis-model", "two"], "invalid value 'two' for '--mis-model"),
         (&["--quad-sampling", "cone"], "invalid value 'cone' for '--quad-sampling"),
         (&["--control-variate", "yes"], "invalid value 'yes' for '--control-variate"),
@@ -220,11 +221,19 @@ fn the_help_lists_the_kernels_methods() {
     let dir = tempfile::tempdir().unwrap();
     let out = run_ok(dir.path(), &["render", "--help"]);
     let help = String::from_utf8_lossy(&out.stdout);
+    // The values of --mis (other flags have values of the same names: `power` light selection).
+    let mis = help.lines().skip_while(|l| !l.trim_start().starts_with("--mis <")).collect::<Vec<_>>();
     for m in picomis::Method::ALL {
-        let line = help.lines().find(|l| l.trim_start().starts_with(&format!("- {}:", m.name())));
+        let line = mis.iter().find(|l| l.trim_start().starts_with(&format!("- {}:", m.name())));
         assert!(line.is_some_and(|l| l.trim_end().ends_with(m.summary())), "{m}: {help}");
     }
-    assert!(help.contains("(default: the scene's, else 2)") && help.contains("else 0.1)"), "{help}");
+    // The parameters' defaults are the kernel's.
+    let (beta, alpha) = (picomis::Heuristic::DEFAULT_BETA, picomis::Heuristic::DEFAULT_ALPHA);
+    assert!(
+        help.contains(&format!("Power-heuristic exponent (default {beta})"))
+            && help.contains(&format!("Cutoff-heuristic threshold (default {alpha})")),
+        "{help}"
+    );
 }
 
 #[test]
@@ -293,26 +302,36 @@ fn rgb565_is_the_embedded_graphics_framebuffer() {
     use embedded_graphics::geometry::Size;
     use embedded_graphics::pixelcolor::Rgb565;
     use embedded_graphics::pixelcolor::raw::{LittleEndian, RawU16};
-    use picomis::{Film, Heuristic, Method, RenderSettings};
+    use picomis::integrator::{control_variate, model};
+    use picomis::light::select::Uniform;
+    use picomis::light::{lobe, quad, sphere};
+    use picomis::{Direct, Film, Heuristic, Integrator, Lights, Method, Preset, RenderSettings};
     use picomis_format::SceneFile;
 
     const W: usize = 24;
     const H: usize = 16;
     let dir = tempfile::tempdir().unwrap();
+    // The lecture's strategies, named as types below (the best preset's may change).
     run_ok(
         dir.path(),
         &[
-            "render", "box_quad", "--width", "24", "--height", "16", "--spp", "4", "--seed", "3", "--out",
-            "a.rgb565",
+            "render", "box_quad", "--width", "24", "--height", "16", "--spp", "4", "--seed", "3", "--preset",
+            "lecture", "--out", "a.rgb565",
         ],
     );
 
-    // What the firmware does: render_into an embedded-graphics framebuffer.
+    // What the firmware does: its scene with its own capacities, the estimator of the strategy
+    // types its settings name, rendered tile by tile into an embedded-graphics framebuffer.
+    type Lecture =
+        Direct<Lights<Uniform, sphere::InCone, quad::ByArea, lobe::Off>, control_variate::Off, model::Multi>;
     let file = SceneFile::parse(include_str!("../../scenes/box_quad.json"), "box_quad").unwrap();
     let scene = file.build_with_film::<7, 1, 4>(Film::new(W as u32, H as u32).unwrap()).unwrap();
-    let settings = RenderSettings::new(Method::Mis(Heuristic::Power { beta: 2.0 }), 1, 1, 4, 3).unwrap();
+    let settings = RenderSettings::new(Method::Mis(Heuristic::Power { beta: 2.0 }), 1, 1, 4, 3)
+        .unwrap()
+        .with_strategies_of(Preset::Lecture);
+    let integrator = Integrator::<Lecture, 7, 1, 4>::new(&scene, &settings).unwrap();
     let mut fb = Framebuffer::<Rgb565, RawU16, LittleEndian, W, H, { buffer_size::<Rgb565>(W, H) }>::new();
-    picomis::render(&scene, &settings, Size::new(8, 8), &mut fb, |_, _| {}).unwrap();
+    integrator.render(Size::new(8, 8), &mut fb, |_, _| {}).unwrap();
     assert_eq!(read(dir.path(), "a.rgb565"), fb.data());
 }
 

@@ -23,8 +23,8 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use picomis::{Arith, Film, RenderSettings, Scene, SceneError, Unrepresentable, camera_sample};
-use picomis_sim::scenes::{self, BUILTINS, SceneVisitor};
+use picomis::{Arith, Film, RenderSettings, SceneError, Unrepresentable};
+use picomis_sim::scenes::{self, BUILTINS, HostScene};
 use rayon::prelude::*;
 
 const W: u32 = 24;
@@ -51,17 +51,16 @@ struct Stats {
     se: Vec<f64>,
 }
 
-fn stats<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    settings: &RenderSettings,
-) -> Stats {
+fn stats(scene: &HostScene, settings: &RenderSettings) -> Stats {
+    let renderer = picomis_host::renderer(scene, settings).unwrap();
+    let renderer = &*renderer;
     let per_pixel: Vec<(f64, f64)> = (0..W * H)
         .into_par_iter()
         .map(|p| {
             let (x, y) = (p % W, p / W);
             let v: Vec<f64> = (0..N)
                 .map(|s| {
-                    let r = camera_sample(scene, settings, x, y, s).radiance();
+                    let r = renderer.camera_sample(x, y, s).radiance();
                     f64::from(r.x) + f64::from(r.y) + f64::from(r.z)
                 })
                 .collect();
@@ -116,24 +115,16 @@ fn difference(f32s: &Stats, fixed: &Stats) -> (f64, f64) {
 
 /// The f32 and fixed statistics of a scene, or the scene's error when fixed point cannot
 /// represent it (checked twice: `supports` and `enable_arith` must agree).
-struct Compare(RenderSettings);
-
-impl SceneVisitor for Compare {
-    type Output = Result<(Stats, Stats), SceneError>;
-    fn visit<const S: usize, const L: usize, const M: usize>(self, scene: Scene<S, L, M>) -> Self::Output {
-        let supported = scene.supports(Arith::Fixed);
-        let mut fixed = scene.clone();
-        let enabled = fixed.enable_arith(Arith::Fixed);
-        assert_eq!(supported, enabled, "supports and enable_arith disagree");
-        supported?;
-        assert_eq!((scene.arith(), fixed.arith()), (Arith::F32, Arith::Fixed));
-        Ok((stats(&scene, &self.0), stats(&fixed, &self.0)))
-    }
-}
-
 fn compare(loaded: &scenes::Loaded) -> Result<(Stats, Stats), SceneError> {
-    let settings = loaded.file.default_settings().unwrap().with_spp(N).unwrap().with_seed(SEED);
-    loaded.visit(Film::new(W, H).unwrap(), Compare(settings)).unwrap()
+    let settings = loaded.file.default_settings().with_spp(N).unwrap().with_seed(SEED);
+    let scene = loaded.build(Film::new(W, H).unwrap()).unwrap();
+    let supported = scene.supports(Arith::Fixed);
+    let mut fixed = scene.clone();
+    let enabled = fixed.enable_arith(Arith::Fixed);
+    assert_eq!(supported, enabled, "supports and enable_arith disagree");
+    supported?;
+    assert_eq!((scene.arith(), fixed.arith()), (Arith::F32, Arith::Fixed));
+    Ok((stats(&scene, &settings), stats(&fixed, &settings)))
 }
 
 #[test]

@@ -95,7 +95,8 @@ fn render(loaded: &scenes::Loaded) -> (Vec<Renders>, Vec<bool>) {
             RenderSettings::new(method, 1, 1, SPP, seed).unwrap().with_sampler(SamplerKind::Independent)
         })
         .collect();
-    let batch = loaded.visit(film, RenderBatch { settings: &settings, message: "veach_mis" }).unwrap();
+    let scene = loaded.build(film).unwrap();
+    let batch = RenderBatch { settings: &settings, message: "veach_mis" }.run(&scene).unwrap();
     let (width, height) = (film.width() as usize, film.height() as usize);
     let k = f64::from(K);
     let emitter: Vec<bool> = (0..width * height)

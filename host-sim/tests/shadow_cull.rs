@@ -9,12 +9,15 @@
 //! The check is not vacuous: it counts blocked shadow rays and lights found, and on Veach the
 //! masks leave out most objects.
 
+use picomis::light::lobe;
+use picomis::light::quad::{self, QuadSampler};
+use picomis::light::select::Uniform;
+use picomis::light::sphere::{self, SphereSampler};
 use picomis::sampling::sample_uniform_sphere;
 use picomis::{
-    Arith, Film, LightId, LightSampler, LightSelection, QuadSampling, Ray, Sampler, Scene, ShadingPoint,
-    ShapeId, SphereSampling, Vec2,
+    Arith, Film, LightId, LightSample, LightSampler, Lights, Ray, Sampler, ShadingPoint, ShapeId, Vec2,
 };
-use picomis_sim::scenes::{self, BUILTINS, SceneVisitor};
+use picomis_sim::scenes::{self, BUILTINS, HOST_LIGHTS, HOST_MATERIALS, HOST_SHAPES, HostScene};
 
 /// Jittered camera rays per pixel.
 const PER_PIXEL: u32 = 2;
@@ -32,76 +35,81 @@ struct Counts {
     all: u64,
 }
 
-/// The check in the arithmetic of the ray queries given.
-struct Check(Arith);
+/// Draws a point on a light as seen from a shading point.
+type Draw<'a> = Box<dyn Fn(LightId, &ShadingPoint, Vec2) -> Option<LightSample> + 'a>;
 
-impl SceneVisitor for Check {
-    type Output = Counts;
-    fn visit<const S: usize, const L: usize, const M: usize>(self, mut scene: Scene<S, L, M>) -> Counts {
-        scene.enable_arith(self.0).expect("every built-in scene can be represented in fixed point");
-        let film = scene.film();
-        let (w, h) = (film.width(), film.height());
-        let mut rng = Sampler::new(9, w, h);
-        let mut c = Counts::default();
-        let strategies = [SphereSampling::Area, SphereSampling::Cone].into_iter().flat_map(|s| {
-            [QuadSampling::Area, QuadSampling::SolidAngle, QuadSampling::SolidAngleCosine]
-                .map(move |q| (s, q))
-        });
-        let samplers: Vec<_> = strategies
-            .map(|(s, q)| LightSampler::new(&scene, LightSelection::Uniform, s).with_quad_sampling(q))
-            .collect();
-        for y in 0..h {
-            for x in 0..w {
-                for _ in 0..PER_PIXEL {
-                    let j = rng.next_2d();
-                    let uv = Vec2::new((x as f32 + j.x) / w as f32, (y as f32 + j.y) / h as f32);
-                    let (ray, t_near) = scene.camera().ray(uv);
-                    let Some(hit) = scene.intersect_camera(&ray, t_near, x, y) else { continue };
-                    let Some(bsdf) = scene.material(hit.object).copied() else { continue };
-                    let at = ShadingPoint { p: hit.point.p, n: hit.point.n, wo: -ray.dir, bsdf };
-                    for (l, _) in scene.lights().iter().enumerate() {
-                        let light = LightId::new(l as u16);
-                        for lights in &samplers {
-                            for _ in 0..DRAWS {
-                                let Some(ls) = lights.sample(light, &at, rng.next_2d()) else { continue };
-                                let shadow = Ray { origin: at.p, dir: ls.wi };
-                                let full = scene.unoccluded(&shadow, ls.distance, hit.object, ls.emitter);
-                                let culled = scene.shadow_unoccluded(&shadow, ls.distance, hit.object, light);
-                                assert_eq!(
-                                    culled, full,
-                                    "pixel ({x}, {y}), light {l}: {shadow:?} to {}",
-                                    ls.distance
-                                );
-                                c.shadow_rays += 1;
-                                c.blocked += u64::from(!full);
-                                let candidates = scene.shadow_candidates(hit.object, light);
-                                let n = scene.objects().len();
-                                c.tested +=
-                                    (0..n).filter(|&i| i >= 32 || candidates >> i & 1 == 1).count() as u64;
-                                c.all += n as u64;
-                                // A BSDF ray in the same direction: the light it finds, if any.
-                                check_emitter_hit(&scene, &shadow, hit.object, &mut c);
-                            }
+/// [`LightSampler::sample`] of `scene`'s lights with spheres sampled by `Sp` and quads by `Q`.
+fn draw<Sp: SphereSampler, Q: QuadSampler>(scene: &HostScene) -> Draw<'_> {
+    let lights =
+        LightSampler::<Lights<Uniform, Sp, Q, lobe::Off>, HOST_SHAPES, HOST_LIGHTS, HOST_MATERIALS>::new(
+            scene,
+        );
+    Box::new(move |light, at, u| lights.sample(light, at, u))
+}
+
+/// The check of `scene` in the arithmetic of the ray queries given.
+fn check_scene(mut scene: HostScene, arith: Arith) -> Counts {
+    scene.enable_arith(arith).expect("every built-in scene can be represented in fixed point");
+    let scene = &scene;
+    let film = scene.film();
+    let (w, h) = (film.width(), film.height());
+    let mut rng = Sampler::new(9, w, h);
+    let mut c = Counts::default();
+    // Every sphere sampling with every quad sampling.
+    let samplers: [Draw<'_>; 6] = [
+        draw::<sphere::ByArea, quad::ByArea>(scene),
+        draw::<sphere::ByArea, quad::SolidAngle>(scene),
+        draw::<sphere::ByArea, quad::SolidAngleCosine>(scene),
+        draw::<sphere::InCone, quad::ByArea>(scene),
+        draw::<sphere::InCone, quad::SolidAngle>(scene),
+        draw::<sphere::InCone, quad::SolidAngleCosine>(scene),
+    ];
+    for y in 0..h {
+        for x in 0..w {
+            for _ in 0..PER_PIXEL {
+                let j = rng.next_2d();
+                let uv = Vec2::new((x as f32 + j.x) / w as f32, (y as f32 + j.y) / h as f32);
+                let (ray, t_near) = scene.camera().ray(uv);
+                let Some(hit) = scene.intersect_camera(&ray, t_near, x, y) else { continue };
+                let Some(bsdf) = scene.material(hit.object).copied() else { continue };
+                let at = ShadingPoint { p: hit.point.p, n: hit.point.n, wo: -ray.dir, bsdf };
+                for (l, _) in scene.lights().iter().enumerate() {
+                    let light = LightId::new(l as u16);
+                    for lights in &samplers {
+                        for _ in 0..DRAWS {
+                            let Some(ls) = lights(light, &at, rng.next_2d()) else { continue };
+                            let shadow = Ray { origin: at.p, dir: ls.wi };
+                            let full = scene.unoccluded(&shadow, ls.distance, hit.object, ls.emitter);
+                            let culled = scene.shadow_unoccluded(&shadow, ls.distance, hit.object, light);
+                            assert_eq!(
+                                culled, full,
+                                "pixel ({x}, {y}), light {l}: {shadow:?} to {}",
+                                ls.distance
+                            );
+                            c.shadow_rays += 1;
+                            c.blocked += u64::from(!full);
+                            let candidates = scene.shadow_candidates(hit.object, light);
+                            let n = scene.objects().len();
+                            c.tested +=
+                                (0..n).filter(|&i| i >= 32 || candidates >> i & 1 == 1).count() as u64;
+                            c.all += n as u64;
+                            // A BSDF ray in the same direction: the light it finds, if any.
+                            check_emitter_hit(scene, &shadow, hit.object, &mut c);
                         }
                     }
-                    for _ in 0..DRAWS {
-                        let out = Ray { origin: at.p, dir: sample_uniform_sphere(rng.next_2d()) };
-                        check_emitter_hit(&scene, &out, hit.object, &mut c);
-                    }
+                }
+                for _ in 0..DRAWS {
+                    let out = Ray { origin: at.p, dir: sample_uniform_sphere(rng.next_2d()) };
+                    check_emitter_hit(scene, &out, hit.object, &mut c);
                 }
             }
         }
-        c
     }
+    c
 }
 
 /// The culled BSDF-ray query from a point of `receiver` answers as the full one.
-fn check_emitter_hit<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    out: &Ray,
-    receiver: ShapeId,
-    c: &mut Counts,
-) {
+fn check_emitter_hit(scene: &HostScene, out: &Ray, receiver: ShapeId, c: &mut Counts) {
     let full = scene.emitter_hit(out, receiver);
     let culled = scene.emitter_hit_from_surface(out, receiver);
     assert_eq!(format!("{culled:?}"), format!("{full:?}"), "{out:?} from {receiver:?}");
@@ -125,7 +133,7 @@ fn check(arith: Arith) {
     let film = Film::new(64, 48).unwrap();
     for b in BUILTINS {
         let loaded = scenes::load(Some(b.name)).unwrap();
-        let c = loaded.visit(film, Check(arith)).unwrap();
+        let c = check_scene(loaded.build(film).unwrap(), arith);
         println!(
             "{} ({arith:?}): {} shadow rays, {:.1} % blocked, {:.2} of {:.0} objects tested per ray; {} BSDF-like rays, {:.1} % find a light",
             b.name,

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use picomis::Film;
+use picomis_format::IntegratorDesc;
 
 use crate::SimError;
 
@@ -33,6 +34,10 @@ pub struct StudyArgs {
     /// Measure the error of the full radiance (lights seen directly included).
     #[arg(long)]
     pub include_emitted: bool,
+    /// The integrator of the "defaults" method: every key of a scene file's integrator block, as
+    /// a flag, over each scene's block (the other methods are the study's own).
+    #[command(flatten)]
+    pub integrator: IntegratorDesc,
 }
 
 /// Pixels of the default study film: 192 x 128 (the Veach film at half size).

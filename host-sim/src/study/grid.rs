@@ -2,9 +2,9 @@
 //! its measured cost), each tile labelled with the method, spp, seconds and relative MSE, next to
 //! the reference.
 
+use super::methods::methods;
 use embedded_graphics_core::pixelcolor::RgbColor;
 use picomis::{Rgb, tone_map};
-use picomis_host::study::study_methods;
 
 use super::results::SceneStudy;
 use crate::text::{Canvas, draw_text};
@@ -44,7 +44,7 @@ pub fn compose(study: &SceneStudy, measured_on: &str) -> Canvas {
     draw_text(&mut canvas, MARGIN as f32, 10.0, 20.0, &title, INK);
     let sub = format!("{w}x{h}; rel. MSE of the {measured_on} against the reference (bottom right)");
     draw_text(&mut canvas, MARGIN as f32, 36.0, 14.0, &sub, MUTED);
-    let methods = study_methods();
+    let methods = methods();
     let mut place = |i: u32, name: &str, detail: &str, image: &[Rgb]| {
         let (col, row) = (i % COLUMNS, i / COLUMNS);
         let x = MARGIN + col * (tw + MARGIN);

@@ -5,20 +5,22 @@
 use std::path::Path;
 
 use indicatif::ProgressBar;
-use picomis::{Arith, Estimate, Rgb, Scene};
-use picomis_host::study::{StudyMethod, study_methods};
+use picomis::{Arith, Estimate, RenderSettings, Rgb};
+use picomis_host::HostScene;
+use picomis_host::study::StudyMethod;
 
 use super::args::{EQUAL_TIME_SEED, StudyArgs};
 use super::measure::{measured, settings, timed};
+use super::methods::{self, defaults_index};
 use super::metrics::{self, ErrorStats};
 use super::reference::{self, Reference};
 use super::regions::{self, RegionMap, RegionStudy};
 use super::results::{EqualTime, Record, Rejected, SceneStudy, balance_index, cost_per_spp, f32_twin};
 use crate::SimError;
 use crate::render::{progress_bar, scene_error};
-use crate::scenes::{Loaded, SceneVisitor};
+use crate::scenes::Loaded;
 
-/// The study of one scene, run with its kernel scene (capacities chosen by the dispatch).
+/// The study of one scene.
 pub struct SceneJob<'a> {
     /// The scene file.
     pub loaded: &'a Loaded,
@@ -28,11 +30,10 @@ pub struct SceneJob<'a> {
     pub cache: &'a Path,
 }
 
-impl SceneVisitor for SceneJob<'_> {
-    type Output = Result<SceneStudy, SimError>;
-
-    fn visit<const S: usize, const L: usize, const M: usize>(self, scene: Scene<S, L, M>) -> Self::Output {
-        let cx = Context::new(self, &scene)?;
+impl SceneJob<'_> {
+    /// Runs the study of `scene`: the job's scene file built for the study film.
+    pub fn run(self, scene: &HostScene) -> Result<SceneStudy, SimError> {
+        let cx = Context::new(self, scene)?;
         let records = cx.ladder()?;
         let region_study = cx.region_study()?;
         let (budget, equal_time) = cx.equal_time(&records)?;
@@ -41,16 +42,17 @@ impl SceneVisitor for SceneJob<'_> {
 }
 
 /// What every step of one scene's study reads.
-struct Context<'a, const S: usize, const L: usize, const M: usize> {
+struct Context<'a> {
     job: SceneJob<'a>,
-    scene: &'a Scene<S, L, M>,
+    scene: &'a HostScene,
     /// The scene with its ray queries in fixed point, or why fixed point cannot represent it.
-    fixed: Result<Scene<S, L, M>, String>,
+    fixed: Result<HostScene, String>,
     /// The methods the scene's arithmetic cannot run.
     rejected: Vec<Rejected>,
     name: String,
     /// The scene's (light, BSDF) samples per camera sample.
     samples: (u16, u16),
+    /// The methods ([`methods::methods`]), the last with the scene's own integrator.
     methods: Vec<StudyMethod>,
     ladder: Vec<u32>,
     seeds: Vec<u32>,
@@ -62,14 +64,16 @@ struct Context<'a, const S: usize, const L: usize, const M: usize> {
     regions: Option<RegionMap>,
 }
 
-impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
+impl<'a> Context<'a> {
     /// The reference of the scene (rendered or from the cache), the Mitsuba image of the Veach
     /// scene and the scene's regions.
-    fn new(job: SceneJob<'a>, scene: &'a Scene<S, L, M>) -> Result<Self, SimError> {
+    fn new(job: SceneJob<'a>, scene: &'a HostScene) -> Result<Self, SimError> {
         let name = job.loaded.file.name().to_string();
         let film = scene.film();
         let (w, h) = (film.width(), film.height());
-        let samples = job.loaded.file.default_samples();
+        let samples = job.loaded.file.default_settings().sample_counts();
+        // The scene's own integrator (and the flags' errors before anything is rendered).
+        let defaults = crate::cli::integrator(job.loaded, &job.args.integrator, None, 1, 0)?;
         let ref_spp = job.args.reference_spp();
         let reference = reference::get(scene, job.loaded, job.cache, ref_spp, samples, "")?;
         eprintln!(
@@ -101,7 +105,18 @@ impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
         let mut fixed = scene.clone();
         let fixed =
             fixed.enable_arith(Arith::Fixed).map(|()| fixed).map_err(|e| scene_error(&job.loaded.file, &e));
-        let methods = study_methods().to_vec();
+        let mut methods = methods::methods();
+        methods[defaults_index()] = methods::defaults(&defaults);
+        let (n_light, n_bsdf) = defaults.sample_counts();
+        eprintln!(
+            "{name}: {}: {}, {n_light} light + {n_bsdf} BSDF samples{}",
+            methods::DEFAULTS,
+            defaults.method(),
+            picomis_format::IntegratorDesc::differences(&defaults, picomis::Preset::Best)
+                .iter()
+                .map(|(k, v)| format!(", {k} {v}"))
+                .collect::<String>()
+        );
         let rejected: Vec<Rejected> = methods
             .iter()
             .enumerate()
@@ -146,10 +161,20 @@ impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
     }
 
     /// The scene in the arithmetic of method `mi`'s ray queries.
-    fn scene_of(&self, mi: usize) -> Result<&Scene<S, L, M>, SimError> {
+    fn scene_of(&self, mi: usize) -> Result<&HostScene, SimError> {
         match self.methods[mi].extras.arith {
             Arith::F32 => Ok(self.scene),
             Arith::Fixed => self.fixed.as_ref().map_err(|e| SimError::Usage(e.clone())),
+        }
+    }
+
+    /// The render settings of method `mi` at `spp` with `seed`: the study method's at the scene's
+    /// sample counts, or for the defaults the scene's own integrator with the flags.
+    fn settings(&self, mi: usize, spp: u32, seed: u32) -> Result<RenderSettings, SimError> {
+        if mi == defaults_index() {
+            crate::cli::integrator(self.job.loaded, &self.job.args.integrator, None, spp, seed)
+        } else {
+            settings(&self.methods[mi], self.samples, spp, seed)
         }
     }
 
@@ -165,7 +190,7 @@ impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
         let include_emitted = self.job.args.include_emitted;
         let target = if include_emitted { &self.reference.full } else { &self.reference.reflected };
         let scene = self.scene_of(mi)?;
-        let (img, seconds) = timed(scene, &settings(&self.methods[mi], self.samples, spp, seed)?, bar);
+        let (img, seconds) = timed(scene, &self.settings(mi, spp, seed)?, bar)?;
         let values: Vec<Rgb> = img.iter().map(|e| measured(e, include_emitted)).collect();
         let error = metrics::error(&values, target);
         Ok((img, values, seconds, error))
@@ -218,6 +243,7 @@ impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
         // Rejected methods are left out (no region errors), like the methods that choose lights
         // otherwise than uniformly.
         let runs: Vec<bool> = (0..self.methods.len()).map(|mi| self.runs(mi)).collect();
+        let settings = |mi, spp, seed| self.settings(mi, spp, seed);
         regions::study(
             self.scene,
             map,
@@ -225,7 +251,7 @@ impl<'a, const S: usize, const L: usize, const M: usize> Context<'a, S, L, M> {
             cache,
             ref_spp,
             samples,
-            (&self.methods, &runs),
+            (&self.methods, &runs, &settings),
             top,
             &self.seeds,
         )

@@ -5,7 +5,8 @@
 use std::time::Instant;
 
 use indicatif::ProgressBar;
-use picomis::{Estimate, RenderSettings, Rgb, Scene};
+use picomis::{Estimate, RenderSettings, Rgb};
+use picomis_host::HostScene;
 use picomis_host::study::StudyMethod;
 
 use crate::SimError;
@@ -18,15 +19,17 @@ pub fn settings(m: &StudyMethod, n: (u16, u16), spp: u32, seed: u32) -> Result<R
 }
 
 /// Renders every pixel of `scene` on all cores, advancing `bar` by `spp` per row; returns the
-/// estimates (row-major) and the wall-clock seconds.
-pub fn timed<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
+/// estimates (row-major) and the wall-clock seconds (the estimator's setup included), or the
+/// kernel's refusal of the settings.
+pub fn timed(
+    scene: &HostScene,
     settings: &RenderSettings,
     bar: &ProgressBar,
-) -> (Vec<Estimate>, f64) {
+) -> Result<(Vec<Estimate>, f64), SimError> {
     let start = Instant::now();
-    let estimates = render_estimates(scene, settings, bar);
-    (estimates.pixels, start.elapsed().as_secs_f64())
+    let estimates =
+        render_estimates(scene, settings, bar).map_err(|e| SimError::Usage(format!("settings: {e}")))?;
+    Ok((estimates.pixels, start.elapsed().as_secs_f64()))
 }
 
 /// The reflected (direct) light of an estimate: what the two techniques estimate.

@@ -8,7 +8,8 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use picomis::{Estimate, Heuristic, Method, RenderSettings, Rgb, Scene, SphereSampling, render_pixel};
+use picomis::{Estimate, Heuristic, Method, RenderSettings, Rgb, SphereSampling};
+use picomis_host::HostScene;
 
 use super::measure::{self, timed};
 use super::metrics::{ErrorStats, REL_EPSILON, downsample};
@@ -84,12 +85,7 @@ fn balance(samples: (u16, u16), spp: u32, seed: u32) -> Result<RenderSettings, S
 
 /// The cache key of `loaded`'s scene as built into `scene` (`variant` names a modified copy,
 /// e.g. one light alone).
-fn key<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    loaded: &Loaded,
-    samples: (u16, u16),
-    variant: &str,
-) -> Result<String, SimError> {
+fn key(scene: &HostScene, loaded: &Loaded, samples: (u16, u16), variant: &str) -> Result<String, SimError> {
     let mut h = Fnv::new();
     h.write(KEY_VERSION.as_bytes());
     h.write(variant.as_bytes());
@@ -112,10 +108,11 @@ fn key<const S: usize, const L: usize, const M: usize>(
         .map(|s| s.with_sphere_sampling(SphereSampling::Area));
     let all = [balance(samples, 2, 7)?, bsdf.map_err(usage)?, light.map_err(usage)?];
     for settings in &all {
+        let renderer = picomis_host::renderer(scene, settings).map_err(usage)?;
         for j in 0..32 {
             for i in 0..32 {
                 let (x, y) = ((2 * i + 1) * film.width() / 64, (2 * j + 1) * film.height() / 64);
-                let c = render_pixel(scene, settings, x, y).radiance();
+                let c = renderer.render_pixel(x, y).radiance();
                 for v in [c.x, c.y, c.z] {
                     h.write(&v.to_bits().to_le_bytes());
                 }
@@ -166,8 +163,8 @@ fn parse_info(text: &str) -> Option<(ErrorStats, f64)> {
 
 /// The reference of `scene` (`loaded`'s scene, or its `variant`) with at least `min_spp`
 /// samples per pixel: from the cache, or rendered and cached.
-pub fn get<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
+pub fn get(
+    scene: &HostScene,
     loaded: &Loaded,
     dir: &Path,
     min_spp: u32,
@@ -206,7 +203,7 @@ pub fn get<const S: usize, const L: usize, const M: usize>(
     let mut halves: Vec<Vec<Estimate>> = Vec::new();
     let mut seconds = 0.0;
     for seed in SEEDS {
-        let (img, s) = timed(scene, &balance(samples, half, seed)?, &bar);
+        let (img, s) = timed(scene, &balance(samples, half, seed)?, &bar)?;
         halves.push(img);
         seconds += s;
     }

@@ -6,9 +6,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use super::methods::methods;
 use embedded_graphics_core::pixelcolor::RgbColor;
 use picomis::{Method, SphereSampling, tone_map};
-use picomis_host::study::study_methods;
 
 use super::report::{ratio, write, write_png};
 use super::results::{SceneStudy, balance_index, cost_per_spp, index_of, mean, top_rung};
@@ -39,7 +39,7 @@ fn region_error(study: &SceneStudy, mi: usize, k: usize) -> f64 {
 /// The markdown table of the error per region.
 fn region_table(study: &SceneStudy) -> String {
     let Some(map) = &study.regions else { return String::new() };
-    let methods = study_methods();
+    let methods = methods();
     let top = top_rung(&study.records);
     let rs = &study.region_study;
     let seeds = rs.records.iter().filter(|r| r.method == balance_index() && r.region == 0).count();
@@ -122,7 +122,7 @@ fn region_table(study: &SceneStudy) -> String {
 /// Heat maps of log10 relative MSE per region, one 4 x 4 (plates x lights) panel per method.
 fn heat_map(study: &SceneStudy) -> Canvas {
     let Some(map) = &study.regions else { return Canvas::new(1, 1, [255; 3]) };
-    let methods = study_methods();
+    let methods = methods();
     let top = study.region_study.spp;
     let values: Vec<Vec<f64>> = (0..methods.len())
         .map(|mi| (0..map.regions.len()).map(|k| region_error(study, mi, k)).collect())

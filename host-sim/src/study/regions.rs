@@ -14,12 +14,14 @@
 //! Methods that choose lights otherwise than uniformly are left out (no region errors).
 
 use picomis::{
-    Light, LightSelection, Material, MaterialId, Ray, Rgb, Scene, SceneError, ShapeId, Vec2, Vec3,
+    Light, LightSelection, Material, MaterialId, Ray, RenderSettings, Rgb, Scene, SceneError, ShapeId, Vec2,
+    Vec3,
 };
+use picomis_host::HostScene;
 use picomis_host::study::StudyMethod;
 use rayon::prelude::*;
 
-use super::measure::{reflected, settings};
+use super::measure::reflected;
 use super::metrics::channel_errors;
 use super::reference::{self, Reference};
 use crate::SimError;
@@ -29,7 +31,7 @@ use crate::scenes::Loaded;
 /// Relative MSE of one region in a render of its light alone.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RegionRecord {
-    /// Index in [`picomis_host::study::study_methods`].
+    /// Index in [`super::methods::methods`].
     pub method: usize,
     /// Seed.
     pub seed: u32,
@@ -246,23 +248,26 @@ pub struct RegionStudy {
     pub spp: u32,
 }
 
+/// The render settings of a method (by index) at an spp with a seed.
+pub type MethodSettings<'a> = &'a dyn Fn(usize, u32, u32) -> Result<RenderSettings, SimError>;
+
 /// Renders each light of `map` alone with every method of `methods` that runs on the scene
-/// (`methods.1`) at `spp` for each seed, with the method's arithmetic of the ray queries, and
-/// measures the error of its regions against that light's own reference (`ref_spp` samples per
-/// pixel).
+/// (`methods.1`) at `spp` for each seed, with the method's settings (`methods.2`) and arithmetic
+/// of the ray queries, and measures the error of its regions against that light's own reference
+/// (`ref_spp` samples per pixel, `samples` light and BSDF samples).
 #[allow(clippy::too_many_arguments)]
-pub fn study<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
+pub fn study(
+    scene: &HostScene,
     map: &RegionMap,
     loaded: &Loaded,
     cache: &std::path::Path,
     ref_spp: u32,
     samples: (u16, u16),
-    methods: (&[StudyMethod], &[bool]),
+    methods: (&[StudyMethod], &[bool], MethodSettings<'_>),
     spp: u32,
     seeds: &[u32],
 ) -> Result<RegionStudy, SimError> {
-    let (methods, runs) = methods;
+    let (methods, runs, settings) = methods;
     let mut out = RegionStudy { spp, ..RegionStudy::default() };
     let h = u64::from(scene.film().height());
     for (l, &light) in map.light_ids.iter().enumerate() {
@@ -283,7 +288,9 @@ pub fn study<const S: usize, const L: usize, const M: usize>(
                 }
                 let mut scene = alone.clone();
                 m.extras.prepare(&mut scene).map_err(|e| SimError::Usage(format!("{}: {e}", m.label)))?;
-                let img = render_estimates(&scene, &settings(m, samples, spp, seed)?, &bar).pixels;
+                let img = render_estimates(&scene, &settings(mi, spp, seed)?, &bar)
+                    .map_err(|e| SimError::Usage(format!("{}: {e}", m.label)))?
+                    .pixels;
                 let values: Vec<Rgb> = img.par_iter().map(reflected).collect();
                 let errors = map.rel_mse(&values, &r.reflected);
                 for (k, _) in map.regions.iter().enumerate().filter(|(_, g)| g.light == l) {
@@ -300,24 +307,13 @@ pub fn study<const S: usize, const L: usize, const M: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenes::{SceneVisitor, load};
-
-    struct Find;
-    impl SceneVisitor for Find {
-        type Output = Option<RegionMap>;
-        fn visit<const S: usize, const L: usize, const M: usize>(
-            self,
-            scene: Scene<S, L, M>,
-        ) -> Self::Output {
-            RegionMap::find(&scene)
-        }
-    }
+    use crate::scenes::load;
 
     #[test]
     fn the_veach_scene_has_four_plates_times_four_lights() {
         let loaded = load(Some("veach_mis")).unwrap();
         let film = picomis::Film::new(96, 64).unwrap();
-        let map = loaded.visit(film, Find).unwrap().expect("regions");
+        let map = RegionMap::find(&loaded.build(film).unwrap()).expect("regions");
         assert_eq!(map.plates, vec![0.005, 0.02, 0.05, 0.1]);
         assert_eq!(map.lights, vec![0.03333, 0.1, 0.3, 0.9]);
         assert_eq!(map.light_ids, vec![0, 1, 2, 3]);
@@ -338,48 +334,36 @@ mod tests {
         assert!(e[0] > 0.0 && e[1..].iter().all(|&v| v == 0.0));
     }
 
-    struct Split;
-    impl SceneVisitor for Split {
-        type Output = (Vec<Rgb>, Vec<Rgb>, usize);
-        fn visit<const S: usize, const L: usize, const M: usize>(
-            self,
-            scene: Scene<S, L, M>,
-        ) -> Self::Output {
-            let settings = picomis::RenderSettings::new(
-                picomis::Method::Mis(picomis::Heuristic::Power { beta: 2.0 }),
-                1,
-                1,
-                2,
-                3,
-            )
-            .unwrap();
-            let film = scene.film();
-            let px = |s: &Scene<S, L, M>| -> Vec<Rgb> {
-                (0..film.pixels())
-                    .map(|i| {
-                        picomis::render_pixel(s, &settings, i % film.width(), i / film.width()).radiance()
-                    })
-                    .collect()
-            };
-            let full = px(&scene);
-            let mut sum = vec![Rgb::ZERO; full.len()];
-            for l in 0..scene.lights().len() {
-                let alone = isolate(&scene, l).unwrap();
-                assert_eq!(alone.lights().len(), scene.lights().len());
-                for (a, b) in sum.iter_mut().zip(px(&alone)) {
-                    *a += b;
-                }
-            }
-            (full, sum, scene.lights().len())
-        }
-    }
-
     #[test]
     fn lights_rendered_alone_add_up_to_the_full_render() {
         // Same random numbers per sample: the parts are the full render's, up to f32 rounding.
         let loaded = load(Some("veach_mis")).unwrap();
-        let (full, sum, lights) = loaded.visit(picomis::Film::new(48, 32).unwrap(), Split).unwrap();
-        assert_eq!(lights, 5);
+        let scene = loaded.build(picomis::Film::new(48, 32).unwrap()).unwrap();
+        let settings = picomis::RenderSettings::new(
+            picomis::Method::Mis(picomis::Heuristic::Power { beta: 2.0 }),
+            1,
+            1,
+            2,
+            3,
+        )
+        .unwrap();
+        let film = scene.film();
+        let px = |s: &HostScene| -> Vec<Rgb> {
+            let r = picomis_host::renderer(s, &settings).unwrap();
+            (0..film.pixels())
+                .map(|i| r.render_pixel(i % film.width(), i / film.width()).radiance())
+                .collect()
+        };
+        let full = px(&scene);
+        let mut sum = vec![Rgb::ZERO; full.len()];
+        for l in 0..scene.lights().len() {
+            let alone = isolate(&scene, l).unwrap();
+            assert_eq!(alone.lights().len(), scene.lights().len());
+            for (a, b) in sum.iter_mut().zip(px(&alone)) {
+                *a += b;
+            }
+        }
+        assert_eq!(scene.lights().len(), 5);
         for (f, s) in full.iter().zip(&sum) {
             assert!((*f - *s).abs().max_element() <= 1e-4 * f.max_element().max(1.0), "{f} vs {s}");
         }
@@ -389,6 +373,6 @@ mod tests {
     #[test]
     fn scenes_without_plates_have_no_regions() {
         let loaded = load(Some("lambert_sphere")).unwrap();
-        assert!(loaded.visit(loaded.file.film(), Find).unwrap().is_none());
+        assert!(RegionMap::find(&loaded.build(loaded.file.film()).unwrap()).is_none());
     }
 }

@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use picomis_host::study::study_methods;
+use super::methods::methods;
 
 use super::args::StudyArgs;
 use super::chart::{self, COLORS, Chart, Point, Series};
@@ -32,7 +32,7 @@ fn measured_on(args_include_emitted: bool) -> &'static str {
 
 /// Writes the charts and the equal-time grid of one scene.
 pub fn write_scene(out: &Path, study: &SceneStudy, include_emitted: bool) -> Result<(), SimError> {
-    let methods = study_methods();
+    let methods = methods();
     let what = measured_on(include_emitted);
     let rungs = rungs(&study.records);
     let top = rungs.last().copied().unwrap_or(1);
@@ -97,7 +97,7 @@ fn error_fields(e: Option<super::metrics::ErrorStats>) -> (String, String) {
 /// `results.csv` (every ladder render, and one row per rejected method with only its reason) and
 /// `equal_time.csv`.
 pub fn write_results(out: &Path, studies: &[SceneStudy]) -> Result<(), SimError> {
-    let methods = study_methods();
+    let methods = methods();
     let mut csv = String::from(
         "scene,method,spp,seed,width,height,seconds,mse,rel_mse,efficiency,rel_efficiency,mse_mitsuba,rel_mse_mitsuba,mse_vs_f32,rel_mse_vs_f32,rejected\n",
     );
@@ -168,7 +168,7 @@ pub struct Efficiency {
 pub fn efficiencies(study: &SceneStudy) -> Vec<Efficiency> {
     let top = top_rung(&study.records);
     let pixels = f64::from(study.width) * f64::from(study.height);
-    (0..study_methods().len())
+    (0..methods().len())
         .map(|mi| {
             // The fastest seed's render: robust against other processes on the machine.
             let seconds = over_seeds(&study.records, mi, top, |r| r.seconds).1;
@@ -211,7 +211,7 @@ pub fn write_summary(
     ref_spp: u32,
     seconds: f64,
 ) -> Result<(), SimError> {
-    let methods = study_methods();
+    let methods = methods();
     let what = measured_on(args.include_emitted);
     let mut md = String::from("# Speed against accuracy: study summary\n\n");
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());

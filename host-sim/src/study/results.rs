@@ -3,8 +3,9 @@
 //! it: which method is which, the rungs, means over seeds, the cost per sample.
 
 use picomis::{Arith, Heuristic, Method, Rgb, SphereSampling};
-use picomis_host::study::{Extras, study_methods};
+use picomis_host::study::Extras;
 
+use super::methods::methods;
 use super::metrics::ErrorStats;
 use super::reference::Reference;
 use super::regions::{RegionMap, RegionStudy};
@@ -12,7 +13,7 @@ use super::regions::{RegionMap, RegionStudy};
 /// One timed render of the ladder.
 #[derive(Clone, Debug)]
 pub struct Record {
-    /// Index in [`study_methods`].
+    /// Index in [`methods`].
     pub method: usize,
     /// Samples per pixel.
     pub spp: u32,
@@ -32,7 +33,7 @@ pub struct Record {
 /// A method that the scene's arithmetic cannot run: no renders, and why.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rejected {
-    /// Index in [`study_methods`].
+    /// Index in [`methods`].
     pub method: usize,
     /// The scene's error, naming the entry.
     pub reason: String,
@@ -41,7 +42,7 @@ pub struct Rejected {
 /// One render of the equal-time comparison.
 #[derive(Clone, Debug)]
 pub struct EqualTime {
-    /// Index in [`study_methods`].
+    /// Index in [`methods`].
     pub method: usize,
     /// Samples per pixel chosen from the method's measured cost.
     pub spp: u32,
@@ -89,19 +90,19 @@ impl SceneStudy {
     }
 }
 
-/// Index in [`study_methods`] of `method` with sphere lights sampled by `spheres`, the default
+/// Index in [`methods`] of `method` with sphere lights sampled by `spheres`, the default
 /// sample stream and uniform light selection (0 if absent).
 pub fn index_of(method: Method, spheres: SphereSampling) -> usize {
-    study_methods()
+    methods()
         .iter()
         .position(|m| m.method == method && m.spheres == spheres && m.extras == Extras::default())
         .unwrap_or(0)
 }
 
-/// Index in [`study_methods`] of the f32 twin of method `mi` (the same method and options with
+/// Index in [`methods`] of the f32 twin of method `mi` (the same method and options with
 /// the ray queries in f32), for a method whose ray queries are not f32; `None` for the others.
 pub fn f32_twin(mi: usize) -> Option<usize> {
-    let methods = study_methods();
+    let methods = methods();
     let m = methods.get(mi)?;
     if m.extras.arith == Arith::F32 {
         return None;
@@ -111,7 +112,7 @@ pub fn f32_twin(mi: usize) -> Option<usize> {
         .position(|o| o.method == m.method && o.spheres == m.spheres && o.extras == m.extras.in_f32())
 }
 
-/// Index of the balance heuristic in [`study_methods`] (the baseline of every ratio).
+/// Index of the balance heuristic in [`methods`] (the baseline of every ratio).
 pub fn balance_index() -> usize {
     index_of(Method::Mis(Heuristic::Balance), SphereSampling::Cone)
 }
@@ -180,13 +181,13 @@ mod tests {
 
     #[test]
     fn the_baseline_is_balance() {
-        assert_eq!(study_methods()[balance_index()].label, "balance");
-        assert_eq!(study_methods()[index_of(Method::LightOnly, SphereSampling::Area)].label, "light_area");
+        assert_eq!(methods()[balance_index()].label, "balance");
+        assert_eq!(methods()[index_of(Method::LightOnly, SphereSampling::Area)].label, "light_area");
     }
 
     #[test]
     fn the_fixed_point_method_is_compared_with_f32_power() {
-        let methods = study_methods();
+        let methods = methods();
         let fixed = methods.iter().position(|m| m.label == "power_fixed").unwrap();
         assert_eq!(f32_twin(fixed).map(|t| methods[t].label), Some("power"));
         assert!((0..methods.len()).filter(|&i| i != fixed).all(|i| f32_twin(i).is_none()));

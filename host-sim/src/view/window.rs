@@ -16,12 +16,13 @@ use embedded_graphics::primitives::{PrimitiveStyle, Rectangle};
 use embedded_graphics::text::{Baseline, Text};
 use embedded_graphics_simulator::sdl2::{Keycode, Mod};
 use embedded_graphics_simulator::{OutputSettingsBuilder, SimulatorDisplay, SimulatorEvent, Window};
-use picomis::{Film, Scene};
+use picomis::Film;
+use picomis_host::HostScene;
 
 use super::{Action, KEYS, STATUS_HEIGHT, ViewArgs, ViewState, pass_spp, render_pass};
 use crate::SimError;
 use crate::output::{encode_png, write_atomic};
-use crate::scenes::{Loaded, SceneVisitor};
+use crate::scenes::Loaded;
 
 /// Shortest time between two window refreshes while a pass renders.
 const REFRESH: Duration = Duration::from_millis(30);
@@ -29,13 +30,8 @@ const REFRESH: Duration = Duration::from_millis(30);
 /// Runs the window until it is closed.
 pub fn run(loaded: &Loaded, film: Film, state: ViewState, args: &ViewArgs) -> Result<(), SimError> {
     let name = loaded.file.name().to_string();
-    loaded.visit(film, WindowLoop { state, args, name })?
-}
-
-struct WindowLoop<'a> {
-    state: ViewState,
-    args: &'a ViewArgs,
-    name: String,
+    let scene = loaded.build(film)?;
+    window_loop(&scene, state, args, &name)
 }
 
 /// Why a pass stopped early: a key changed what is shown, or the window was closed.
@@ -143,95 +139,93 @@ fn film_rgb(display: &SimulatorDisplay<Rgb565>, film: Size) -> Vec<u8> {
     out
 }
 
-impl SceneVisitor for WindowLoop<'_> {
-    type Output = Result<(), SimError>;
+/// Shows `scene` pass by pass, and applies the keys, until the window is closed.
+fn window_loop(scene: &HostScene, mut state: ViewState, args: &ViewArgs, name: &str) -> Result<(), SimError> {
+    let film = Size::new(scene.film().width(), scene.film().height());
+    let mut display = SimulatorDisplay::<Rgb565>::new(Size::new(film.width, film.height + STATUS_HEIGHT));
+    let settings = OutputSettingsBuilder::new().scale(args.scale).build();
+    let title = format!("picomis: {name} ({}x{} Rgb565)", film.width, film.height);
+    let mut window = Window::new(&title, &settings);
+    window.set_max_fps(1000);
+    let dump = std::env::vars_os().any(|(k, _)| k.to_string_lossy().starts_with("EG_SIMULATOR_"));
+    println!("{title}: {KEYS}");
 
-    fn visit<const S: usize, const L: usize, const M: usize>(self, scene: Scene<S, L, M>) -> Self::Output {
-        let WindowLoop { mut state, args, name } = self;
-        let film = Size::new(scene.film().width(), scene.film().height());
-        let mut display = SimulatorDisplay::<Rgb565>::new(Size::new(film.width, film.height + STATUS_HEIGHT));
-        let settings = OutputSettingsBuilder::new().scale(args.scale).build();
-        let title = format!("picomis: {name} ({}x{} Rgb565)", film.width, film.height);
-        let mut window = Window::new(&title, &settings);
-        window.set_max_fps(1000);
-        let dump = std::env::vars_os().any(|(k, _)| k.to_string_lossy().starts_with("EG_SIMULATOR_"));
-        println!("{title}: {KEYS}");
-
-        // The last complete pass, for `p`.
-        let mut last: Option<(Vec<u8>, String)> = None;
-        let mut pass = 0u32;
-        let mut pass_ms = 0.0;
-        let mut live = Live {
-            display: &mut display,
-            window: &mut window,
-            film,
-            live: !dump,
-            last_refresh: Instant::now(),
-            actions: Vec::new(),
-        };
-        loop {
-            let method = state.method_label();
-            let sampling = state.sampling_label();
-            if pass < args.passes {
-                let spp = pass_spp(pass);
-                let settings = state.settings(spp).map_err(SimError::Usage)?;
-                let done = if pass == 0 { "-".to_string() } else { format!("{} spp", pass_spp(pass - 1)) };
-                let status = format!("{done}, rendering {spp}");
+    // The last complete pass, for `p`.
+    let mut last: Option<(Vec<u8>, String)> = None;
+    let mut pass = 0u32;
+    let mut pass_ms = 0.0;
+    let mut live = Live {
+        display: &mut display,
+        window: &mut window,
+        film,
+        live: !dump,
+        last_refresh: Instant::now(),
+        actions: Vec::new(),
+    };
+    loop {
+        let method = state.method_label();
+        let sampling = state.sampling_label();
+        if pass < args.passes {
+            let spp = pass_spp(pass);
+            let settings = state.settings(spp).map_err(SimError::Usage)?;
+            let renderer = picomis_host::renderer(scene, &settings)
+                .map_err(|e| SimError::Usage(format!("{name}: {e}")))?;
+            let done = if pass == 0 { "-".to_string() } else { format!("{} spp", pass_spp(pass - 1)) };
+            let status = format!("{done}, rendering {spp}");
+            draw_status(
+                live.display,
+                film,
+                [&method, &format!("{}, {sampling}", state.view.label()), &status],
+            );
+            live.poll(true);
+            let start = Instant::now();
+            if render_pass(&*renderer, scene.film(), state.view, args.tile, &mut live).is_ok() {
+                pass_ms = start.elapsed().as_secs_f64() * 1e3;
+                pass += 1;
+                let status = format!("{spp} spp, {pass_ms:.0} ms/pass");
                 draw_status(
                     live.display,
                     film,
                     [&method, &format!("{}, {sampling}", state.view.label()), &status],
                 );
-                live.poll(true);
-                let start = Instant::now();
-                if render_pass(&scene, &settings, state.view, args.tile, &mut live).is_ok() {
-                    pass_ms = start.elapsed().as_secs_f64() * 1e3;
-                    pass += 1;
-                    let status = format!("{spp} spp, {pass_ms:.0} ms/pass");
-                    draw_status(
-                        live.display,
-                        film,
-                        [&method, &format!("{}, {sampling}", state.view.label()), &status],
-                    );
-                    last = Some((film_rgb(live.display, film), format!("{spp}spp")));
-                    if pass == args.passes && !live.live {
-                        // Dump mode: one update, after the last pass; the simulator writes the
-                        // PNG and exits the process.
-                        live.window.update(live.display);
-                        return Ok(());
-                    }
-                    live.poll(true);
-                    // After the window shows it (tests/window.rs waits for this line).
-                    println!(
-                        "pass {pass}: {spp} spp, {pass_ms:.1} ms, {method}, {}, {sampling}",
-                        state.view.label()
-                    );
+                last = Some((film_rgb(live.display, film), format!("{spp}spp")));
+                if pass == args.passes && !live.live {
+                    // Dump mode: one update, after the last pass; the simulator writes the
+                    // PNG and exits the process.
+                    live.window.update(live.display);
+                    return Ok(());
                 }
-            } else {
-                let status = format!("{} spp, {pass_ms:.0} ms/pass, done", pass_spp(pass - 1));
-                draw_status(
-                    live.display,
-                    film,
-                    [&method, &format!("{}, {sampling}", state.view.label()), &status],
-                );
-                std::thread::sleep(Duration::from_millis(20));
                 live.poll(true);
+                // After the window shows it (tests/window.rs waits for this line).
+                println!(
+                    "pass {pass}: {spp} spp, {pass_ms:.1} ms, {method}, {}, {sampling}",
+                    state.view.label()
+                );
             }
-            for action in std::mem::take(&mut live.actions) {
-                match action {
-                    Action::Quit => return Ok(()),
-                    Action::Save => {
-                        let Some((rgb, spp)) = &last else { continue };
-                        let view = state.view.label().replace(' ', "_");
-                        let file = format!("{name}_{}_{view}_{spp}.png", super::method_name_at(state.method));
-                        let png = encode_png(film.width, film.height, rgb).map_err(SimError::Io)?;
-                        write_atomic(std::path::Path::new(&file), &png).map_err(SimError::Io)?;
-                        println!("saved {file}");
-                    }
-                    other => {
-                        if state.apply(other) {
-                            pass = 0;
-                        }
+        } else {
+            let status = format!("{} spp, {pass_ms:.0} ms/pass, done", pass_spp(pass - 1));
+            draw_status(
+                live.display,
+                film,
+                [&method, &format!("{}, {sampling}", state.view.label()), &status],
+            );
+            std::thread::sleep(Duration::from_millis(20));
+            live.poll(true);
+        }
+        for action in std::mem::take(&mut live.actions) {
+            match action {
+                Action::Quit => return Ok(()),
+                Action::Save => {
+                    let Some((rgb, spp)) = &last else { continue };
+                    let view = state.view.label().replace(' ', "_");
+                    let file = format!("{name}_{}_{view}_{spp}.png", super::method_name_at(state.method));
+                    let png = encode_png(film.width, film.height, rgb).map_err(SimError::Io)?;
+                    write_atomic(std::path::Path::new(&file), &png).map_err(SimError::Io)?;
+                    println!("saved {file}");
+                }
+                other => {
+                    if state.apply(other) {
+                        pass = 0;
                     }
                 }
             }

@@ -1,8 +1,10 @@
 //! What the page can choose from: the built-in scenes, the methods, the light-selection and
-//! sphere-sampling strategies, lobe mixing. Each list comes from its one definition (`picomis-builtins`, the
-//! kernel's `Method::ALL` and enums); this file only hands them to the page.
+//! sphere-sampling strategies, lobe mixing. Each list comes from its one definition
+//! (`picomis-builtins`, the kernel's [`Choice`] lists: `Method::ALL` and the strategies' `ALL`),
+//! and each default from the best preset ([`Preset::Best`], what `picomis-sim render` starts
+//! from); this file only hands them to the page.
 
-use picomis::{Heuristic, LightSelection, LobeMixing, Method, SphereSampling};
+use picomis::{Choice, Heuristic, LightSelection, LobeMixing, Method, Preset, SphereSampling};
 use picomis_format::SceneFile;
 use serde_json::{Value, json};
 
@@ -28,6 +30,11 @@ pub const LOBE_MIXING: [LobeMixing; LobeMixing::ALL.len()] = LobeMixing::ALL;
 /// --light-selection`).
 pub const LIGHT_SELECTION: [LightSelection; LightSelection::ALL.len()] = LightSelection::ALL;
 
+/// The index in `list` of `default` (0 if absent).
+fn index_of<C: Choice>(list: &[C], default: C) -> usize {
+    list.iter().position(|c| *c == default).unwrap_or(0)
+}
+
 /// `m` as (index in [`METHODS`], beta, alpha), with the kernel's defaults for the parameters
 /// `m` does not have.
 pub fn method_parts(m: Method) -> (usize, f32, f32) {
@@ -48,8 +55,9 @@ pub fn info() -> Value {
         .iter()
         .map(|b| match SceneFile::parse(b.json, b.name) {
             Ok(f) => {
-                let (method, beta, alpha) = method_parts(f.default_method());
-                let (light, bsdf) = f.default_samples();
+                let settings = f.default_settings();
+                let (method, beta, alpha) = method_parts(settings.method());
+                let (light, bsdf) = settings.sample_counts();
                 json!({
                     "name": b.name, "description": f.description(),
                     "width": f.film().width(), "height": f.film().height(),
@@ -60,16 +68,17 @@ pub fn info() -> Value {
             Err(e) => json!({ "name": b.name, "error": e.to_string() }),
         })
         .collect();
+    let best = Preset::Best.settings();
     json!({
         "scenes": scenes,
         "default_scene": SCENES.iter().position(|b| b.name == DEFAULT_SCENE).unwrap_or(0),
         "methods": METHODS.map(|m| m.name()),
         "sphere_sampling": SPHERE_SAMPLING.map(SphereSampling::name),
-        "default_sphere_sampling": SPHERE_SAMPLING.iter().position(|s| *s == SphereSampling::default()).unwrap_or(0),
+        "default_sphere_sampling": index_of(&SPHERE_SAMPLING, best.sphere_sampling()),
         "lobe_mixing": LOBE_MIXING.map(LobeMixing::name),
-        "default_lobe_mixing": LOBE_MIXING.iter().position(|l| *l == LobeMixing::default()).unwrap_or(0),
+        "default_lobe_mixing": index_of(&LOBE_MIXING, best.lobe_mixing()),
         "light_selection": LIGHT_SELECTION.map(LightSelection::name),
-        "default_light_selection": LIGHT_SELECTION.iter().position(|s| *s == LightSelection::default()).unwrap_or(0),
+        "default_light_selection": index_of(&LIGHT_SELECTION, best.light_selection()),
     })
 }
 
@@ -84,8 +93,8 @@ mod tests {
         for b in SCENES {
             let f = SceneFile::parse(b.json, b.name).unwrap();
             assert_eq!(f.name(), b.name);
-            let (i, beta, alpha) = method_parts(f.default_method());
-            assert_eq!(method(i, beta, alpha), Ok(f.default_method()), "{}", b.name);
+            let (i, beta, alpha) = method_parts(f.default_settings().method());
+            assert_eq!(method(i, beta, alpha), Ok(f.default_settings().method()), "{}", b.name);
         }
         for i in 0..METHODS.len() {
             let m = method(i, 3.0, 0.25).unwrap();
@@ -101,5 +110,12 @@ mod tests {
             info["sphere_sampling"][info["default_sphere_sampling"].as_u64().unwrap() as usize],
             "cone"
         );
+        // Every default is the best preset's, by name.
+        let best = Preset::Best.settings();
+        let default =
+            |list: &str| info[list][info[format!("default_{list}")].as_u64().unwrap() as usize].clone();
+        assert_eq!(default("sphere_sampling"), best.sphere_sampling().name());
+        assert_eq!(default("light_selection"), best.light_selection().name());
+        assert_eq!(default("lobe_mixing"), best.lobe_mixing().name());
     }
 }

@@ -74,8 +74,7 @@ impl Request {
             .with_light_selection(
                 LIGHT_SELECTION[pick(self.selection, LIGHT_SELECTION.len(), "light selection")?],
             )
-            .with_lobe_mixing(LOBE_MIXING[pick(self.lobe, LOBE_MIXING.len(), "lobe mixing")?])
-            .map_err(|e| format!("lobe mixing: {e}"))?;
+            .with_lobe_mixing(LOBE_MIXING[pick(self.lobe, LOBE_MIXING.len(), "lobe mixing")?]);
         Ok((file, settings))
     }
 }

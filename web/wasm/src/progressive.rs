@@ -1,19 +1,20 @@
 //! Progressive rendering: each pass adds the next camera samples of every pixel to a running
-//! sum, so the image after N samples per pixel is exactly `picomis::render_pixel` at N spp.
+//! sum, so the image after N samples per pixel is exactly the kernel's `render_pixel` at N spp
+//! (the estimator of the settings, [`picomis_host::renderer`]).
 //!
 //! Camera sample s of pixel p draws its random numbers from (seed, p, s) alone, so a pass adds
 //! samples `spp..spp + k`. `render_pixel` merges samples 0, 1, ..., N - 1 in order into a zero
 //! [`Estimate`] and scales the sum by `1.0 / N as f32`; [`Progressive::mean`] does the same
 //! operations in the same order on the running sum, which gives the same bits.
 
-use picomis::{Estimate, RenderSettings, Rgb, Scene, TechniqueEstimate, camera_sample, tone_map};
+use picomis::{Estimate, RenderSettings, Rgb, TechniqueEstimate, tone_map};
 use picomis_format::SceneFile;
-use picomis_host::{NO_LIGHT, weight_color};
+use picomis_host::{HostScene, NO_LIGHT, weight_color};
 
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 
-/// Kernel capacities of the page's scenes (those of `picomis-sim render` for scene files).
-pub type WebScene = Scene<64, 32, 32>;
+/// The page's scenes: the host's one scene type (that of `picomis-sim render`).
+pub type WebScene = HostScene;
 
 /// The most camera samples per pixel a render accumulates.
 pub const MAX_SPP: u32 = 1 << 24;
@@ -39,9 +40,11 @@ pub struct Progressive {
 }
 
 impl Progressive {
-    /// A render of `file` with `settings` (its spp is ignored: passes decide), nothing sampled.
+    /// A render of `file` with `settings` (its spp is ignored: passes decide), nothing sampled;
+    /// the kernel's error when it refuses the settings.
     pub fn new(file: &SceneFile, settings: RenderSettings) -> Result<Self, String> {
         let scene: Box<WebScene> = Box::new(file.build().map_err(|e| e.to_string())?);
+        picomis_host::renderer(&scene, &settings).map_err(|e| e.to_string())?;
         let film = scene.film();
         let (width, height) = (film.width(), film.height());
         let pixels = film.pixels() as usize;
@@ -72,13 +75,15 @@ impl Progressive {
     /// Adds the next `k` camera samples of every pixel (fewer if [`MAX_SPP`] is reached);
     /// returns how many were added.
     pub fn add_samples(&mut self, k: u32) -> u32 {
+        // Accepted by `new`: no error here.
+        let Ok(renderer) = picomis_host::renderer(&self.scene, &self.settings) else { return 0 };
         let k = k.min(MAX_SPP - self.spp);
         let (start, end) = (self.spp, self.spp + k);
         let width = self.width as usize;
         for (i, sum) in self.sums.iter_mut().enumerate() {
             let (x, y) = ((i % width) as u32, (i / width) as u32);
             for s in start..end {
-                sum.merge(&camera_sample(&*self.scene, &self.settings, x, y, s));
+                sum.merge(&renderer.camera_sample(x, y, s));
             }
         }
         self.spp = end;
@@ -154,7 +159,7 @@ pub fn colorbar(width: u32) -> Vec<u8> {
 mod tests {
     use super::*;
     use crate::catalog::SCENES;
-    use picomis::{Heuristic, Method, SphereSampling, render_pixel};
+    use picomis::{Heuristic, Method, SphereSampling};
 
     #[test]
     fn passes_accumulate_to_render_pixel_bit_for_bit() {
@@ -173,10 +178,11 @@ mod tests {
             }
             assert_eq!(p.spp(), 10);
             let scene: WebScene = file.build().unwrap();
+            let renderer = picomis_host::renderer(&scene, &settings).unwrap();
             let w = p.width() as usize;
             // Every 37th pixel, to keep the test quick.
             for i in (0..(p.width() * p.height()) as usize).step_by(37) {
-                let expected = render_pixel(&scene, &settings, (i % w) as u32, (i / w) as u32);
+                let expected = renderer.render_pixel((i % w) as u32, (i / w) as u32);
                 assert_eq!(p.mean(i), expected, "{name}: pixel {i}");
             }
             p.update_rgba();
