@@ -1,6 +1,7 @@
 //! Loading `picomis-scene/1` files: the Veach scene, and every class of bad input.
 
-use picomis_format::{Counts, LoadError, SceneFile};
+use picomis::Preset;
+use picomis_format::{Counts, LoadError, SceneFile, firmware_settings};
 
 const VEACH: &str = include_str!("../../scenes/veach_mis.json");
 
@@ -33,7 +34,8 @@ fn veach_scene_loads_with_its_own_counts() {
     assert_eq!(scene.objects().len(), 11);
     assert_eq!(scene.lights().len(), 5);
     assert_eq!((scene.film().width(), scene.film().height()), (384, 256));
-    assert!(s.default_settings().is_ok());
+    // The integrator block makes valid settings (checked at load), and they are the defaults.
+    assert_eq!(Ok(s.default_settings()), s.integrator().settings(1, 0));
 }
 
 #[test]
@@ -116,14 +118,14 @@ fn non_finite_and_out_of_range_numbers() {
     let mut v = veach();
     v["integrator"]["emitter_samples"] = 0.into();
     v["integrator"]["bsdf_samples"] = 0.into();
-    rejects(&v, "integrator", "both sample counts are zero");
+    rejects(&v, "integrator.light_samples", "both sample counts are zero");
     let mut v = veach();
     v["integrator"]["mis_model"] = "two".into();
     rejects(&v, "integrator.mis_model", "unknown MIS model");
     let mut v = veach();
     v["integrator"]["mis_model"] = "one".into();
     v["integrator"]["c_light"] = 1.5.into();
-    rejects(&v, "integrator.mis_model", "c_light is out of range");
+    rejects(&v, "integrator.c_light", "c_light is out of range");
 }
 
 #[test]
@@ -160,55 +162,71 @@ fn method_names_and_parameters_come_from_the_kernel() {
     for m in picomis::Method::ALL {
         let mut v = veach();
         v["integrator"]["mis"] = m.name().into();
-        assert_eq!(load(&v).unwrap().default_method(), m, "{m}");
+        assert_eq!(load(&v).unwrap().default_settings().method(), m, "{m}");
     }
     let mut v = veach();
     v["integrator"]["beta"] = 0.0.into();
-    rejects(&v, "integrator.mis", "power-heuristic beta is out of range");
+    rejects(&v, "integrator.beta", "power-heuristic beta is out of range");
     v["integrator"]["beta"] = 3.0.into();
-    assert_eq!(load(&v).unwrap().default_method().beta(), Some(3.0));
+    assert_eq!(load(&v).unwrap().default_settings().method().beta(), Some(3.0));
     v["integrator"]["mis"] = "cutoff".into();
     v["integrator"]["alpha"] = 2.0.into();
-    rejects(&v, "integrator.mis", "cutoff alpha is out of range");
+    rejects(&v, "integrator.alpha", "cutoff alpha is out of range");
 }
 
 #[test]
 fn quad_sampling_names_come_from_the_kernel() {
-    assert_eq!(load(&veach()).unwrap().default_quad_sampling(), picomis::QuadSampling::default());
+    let best = Preset::Best.settings();
+    assert_eq!(load(&veach()).unwrap().default_settings().quad_sampling(), best.quad_sampling());
     for q in picomis::QuadSampling::ALL {
         let mut v = veach();
         v["integrator"]["quad_sampling"] = q.name().into();
         let s = load(&v).unwrap();
-        assert_eq!(s.default_quad_sampling(), q, "{q}");
-        assert_eq!(s.default_settings().unwrap().quad_sampling(), q, "{q}");
-        // The firmware's settings carry it too.
-        let named = s.to_rust().contains(&format!("QuadSampling::{q:?}"));
-        assert_eq!(named, q != picomis::QuadSampling::default(), "{q}");
+        assert_eq!(s.default_settings().quad_sampling(), q, "{q}");
+        // The firmware's settings carry it too, where the scene has a quad light (Veach has
+        // none: there quads by area, the same bits).
+        assert!(!s.light_kinds().quads);
+        assert_eq!(firmware_settings(&s).quad_sampling(), picomis::QuadSampling::Area, "{q}");
+        v["shapes"][5]["emitter"] = serde_json::json!({ "type": "area", "radiance": [1.0, 1.0, 1.0] });
+        let s = load(&v).unwrap();
+        assert!(s.light_kinds().quads);
+        assert_eq!(firmware_settings(&s).quad_sampling(), q, "{q}");
+        let named = s.to_rust().contains(&format!("picomis::QuadSampling::{q:?})"));
+        assert!(named, "{q}: the firmware's settings do not name it");
     }
     let mut v = veach();
     v["integrator"]["quad_sampling"] = "cone".into();
-    rejects(&v, "integrator.quad_sampling", "unknown quad sampling \"cone\" (expected area, solid-angle");
+    rejects(
+        &v,
+        "integrator.quad_sampling",
+        "unknown quad sampling \"cone\" (expected area, solid-angle or solid-angle-cosine)",
+    );
 }
 
 #[test]
 fn light_selection_names_come_from_the_kernel() {
-    assert_eq!(load(&veach()).unwrap().default_light_selection(), picomis::LightSelection::default());
+    let best = Preset::Best.settings();
+    assert_eq!(load(&veach()).unwrap().default_settings().light_selection(), best.light_selection());
     for l in picomis::LightSelection::ALL {
         let mut v = veach();
         v["integrator"]["light_selection"] = l.name().into();
         let s = load(&v).unwrap();
-        assert_eq!(s.default_light_selection(), l, "{l:?}");
-        assert_eq!(s.default_settings().unwrap().light_selection(), l, "{l:?}");
-        // The firmware's settings carry it too.
-        let named = s.to_rust().contains(&format!("LightSelection::{l:?}"));
-        assert_eq!(named, l != picomis::LightSelection::default(), "{l:?}");
+        assert_eq!(s.default_settings().light_selection(), l, "{l:?}");
+        // The firmware's settings carry it too (Veach has five lights: every selection applies).
+        assert_eq!(firmware_settings(&s).light_selection(), l, "{l:?}");
+        let named = s.to_rust().contains(&format!("picomis::LightSelection::{l:?})"));
+        assert!(named, "{l:?}: the firmware's settings do not name it");
     }
     let mut v = veach();
     v["integrator"]["light_selection"] = "random".into();
-    rejects(&v, "integrator.light_selection", "unknown light selection \"random\" (expected uniform, power");
+    rejects(
+        &v,
+        "integrator.light_selection",
+        "unknown light selection \"random\" (expected uniform, power or contribution)",
+    );
     let mut v = veach();
     v["integrator"]["sampler"] = "halton".into();
-    rejects(&v, "integrator.sampler", "unknown sampler \"halton\" (expected sobol, independent)");
+    rejects(&v, "integrator.sampler", "unknown sampler \"halton\" (expected sobol or independent)");
 }
 
 #[test]

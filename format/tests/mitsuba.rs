@@ -4,7 +4,10 @@
 //! one-line error naming the line and the element; and exporting then importing every built-in
 //! scene gives back the same scene, bit for bit.
 
-use picomis::{Film, Heuristic, Method, RenderSettings, SphereSampling, render_pixel};
+mod common;
+
+use common::{lecture_settings, render_pixel};
+use picomis::{Film, Heuristic, Method, SphereSampling};
 use picomis_format::{SceneFile, mitsuba};
 use serde_json::Value;
 
@@ -146,8 +149,9 @@ fn every_transform_form_the_point_emitter_and_defaults() {
     assert_eq!(lights[1]["intensity"], serde_json::json!([2.0, 2.0, 2.0]));
     // The floor faces up: a pixel looking at it is lit.
     let scene = SceneFile::parse(&text, "t").unwrap().build::<8, 8, 8>().unwrap();
-    let settings = RenderSettings::new(Method::Mis(Heuristic::Balance), 1, 1, 16, 0).unwrap();
-    assert!(render_pixel(&scene, &settings, 32, 40).radiance().max_element() > 0.0);
+    let settings =
+        lecture_settings(Method::Mis(Heuristic::Balance), (1, 1), 16, 0, SphereSampling::Cone).unwrap();
+    assert!(render_pixel(&scene, &settings, 32, 40).unwrap().radiance().max_element() > 0.0);
 }
 
 /// A small valid scene; line 6 is `@@`, where most cases put their element.
@@ -498,10 +502,10 @@ fn pixels(scene: &SceneFile) -> Vec<u32> {
         (Method::Mis(Heuristic::Balance), SphereSampling::Area),
         (Method::BsdfOnly, SphereSampling::Cone),
     ] {
-        let settings = RenderSettings::new(method, 1, 1, 4, 7).unwrap().with_sphere_sampling(spheres);
+        let settings = lecture_settings(method, (1, 1), 4, 7, spheres).unwrap();
         for y in 0..16 {
             for x in 0..24 {
-                let e = render_pixel(&built, &settings, x, y);
+                let e = render_pixel(&built, &settings, x, y).unwrap();
                 bits.extend(e.radiance().to_array().map(f32::to_bits));
             }
         }
@@ -529,8 +533,9 @@ fn export_then_import_gives_back_every_builtin_scene_bit_for_bit() {
         assert_eq!(imported.counts(), original.counts(), "{name}");
         assert_eq!(imported.camera(), original.camera(), "{name}");
         assert_eq!(imported.film(), original.film(), "{name}");
-        assert_eq!(imported.default_method(), original.default_method(), "{name}");
-        assert_eq!(imported.default_samples(), original.default_samples(), "{name}");
+        let (a, b) = (imported.default_settings(), original.default_settings());
+        assert_eq!(a.method(), b.method(), "{name}");
+        assert_eq!(a.sample_counts(), b.sample_counts(), "{name}");
         let (a, b) = (pixels(&imported), pixels(&original));
         let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
         assert!(differ == 0, "{name}: the image changed ({differ} of {} values differ)", a.len());

@@ -14,7 +14,11 @@
 //! - [`closed_forms`]: [`sphere_irradiance`], [`sphere_irradiance_at`],
 //!   [`lambert_polygon_irradiance`], [`polygon_solid_angle`], [`cone_measure`];
 //! - [`scenes`]: scene builders [`camera`], [`quad_corners`], [`shading_hit`], and
-//!   [`direct_stats`], [`heuristics`].
+//!   [`direct_stats`], [`heuristics`] (in the host's scene type, [`picomis_host::HostScene`]:
+//!   their settings are chosen at run time);
+//! - [`strategies`]: [`LightChoices`], light strategies named at run time, and
+//!   [`LightChoices::visit`], which calls a [`VisitLights`] with them as types (the kernel's light
+//!   sampler is generic over them).
 //!
 //! Tests are host code: everything here computes in f64 (glam's [`DVec3`]) unless it calls the
 //! kernel.
@@ -25,6 +29,7 @@ pub mod closed_forms;
 pub mod histogram;
 pub mod scenes;
 pub mod stats;
+pub mod strategies;
 
 pub use cap::*;
 pub use chi2::*;
@@ -33,3 +38,4 @@ pub use glam::DVec3;
 pub use histogram::*;
 pub use scenes::*;
 pub use stats::*;
+pub use strategies::*;

@@ -2,9 +2,10 @@
 //! heuristics to sweep, and running statistics of direct-lighting and traced estimates.
 
 use picomis::{
-    CameraDesc, FovAxis, Heuristic, Hit, Method, Ray, RenderSettings, Sampler, Scene, ShapeId, SurfacePoint,
-    TechniqueEstimate, Vec3, estimate_direct, trace,
+    CameraDesc, FovAxis, Heuristic, Hit, Method, Ray, RenderSettings, Sampler, ShapeId, SurfacePoint,
+    TechniqueEstimate, Vec3,
 };
+use picomis_host::{HostScene, renderer};
 
 use crate::stats::RgbStats;
 
@@ -59,18 +60,19 @@ pub fn shading_hit(object: ShapeId, p: Vec3, n: Vec3) -> Hit {
 /// one scrambled Sobol sequence for sobol, whose mean then varies less than independent ones'), as running statistics of the total radiance and of the
 /// light- and BSDF-technique parts, with the number of estimates whose output (contributions or
 /// weight sums) was not finite and how many samples of each technique found light.
-pub fn direct_stats<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
+pub fn direct_stats(
+    scene: &HostScene,
     settings: &RenderSettings,
     hit: &Hit,
     wo: Vec3,
     stream: u32,
     n: u32,
 ) -> DirectStats {
+    let it = renderer(scene, settings).expect("the estimator of the settings' strategies");
     let mut out = DirectStats::default();
     for i in 0..n {
         let mut sampler = Sampler::with_kind(settings.sampler(), settings.seed(), stream, i);
-        let (light, bsdf) = estimate_direct(scene, settings, hit, wo, &mut sampler);
+        let (light, bsdf) = it.estimate_direct(hit, wo, &mut sampler);
         let finite = |t: &TechniqueEstimate| {
             t.contribution.is_finite() && t.weight_sum.is_finite() && t.weight_sum >= 0.0
         };
@@ -86,18 +88,14 @@ pub fn direct_stats<const S: usize, const L: usize, const M: usize>(
     out
 }
 
-/// `n` independent estimates of the radiance along `ray` through [`picomis::trace`].
-pub fn trace_stats<const S: usize, const L: usize, const M: usize>(
-    scene: &Scene<S, L, M>,
-    settings: &RenderSettings,
-    ray: &Ray,
-    stream: u32,
-    n: u32,
-) -> RgbStats {
+/// `n` independent estimates of the radiance along `ray` through the estimator's `trace`
+/// ([`picomis_host::Renderer::trace`]).
+pub fn trace_stats(scene: &HostScene, settings: &RenderSettings, ray: &Ray, stream: u32, n: u32) -> RgbStats {
+    let it = renderer(scene, settings).expect("the estimator of the settings' strategies");
     let mut out = RgbStats::default();
     for i in 0..n {
         let mut sampler = Sampler::with_kind(settings.sampler(), settings.seed(), stream, i);
-        out.push(trace(scene, settings, ray, 0.0, &mut sampler).radiance());
+        out.push(it.trace(ray, 0.0, &mut sampler).radiance());
     }
     out
 }

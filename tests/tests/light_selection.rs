@@ -14,11 +14,13 @@
 //! Scene: sphere lights straddling the horizon, tiny and big; a quad light seen from both sides;
 //! a bright and a dark point light.
 
+use picomis::light::select::ByContribution;
+use picomis::light::{lobe, quad, sphere};
 use picomis::num::Frame;
 use picomis::sampling::sample_uniform_sphere;
 use picomis::{
-    Film, Heuristic, LightId, LightSampler, LightSelection, Material, Method, Rgb, Sampler, Scene,
-    ShadingPoint, Shape, SphereSampling, SurfacePoint, Technique, Vec3,
+    Film, Heuristic, LightId, LightSampler, Lights, Material, Method, Rgb, Sampler, Scene, ShadingPoint,
+    Shape, SurfacePoint, Technique, Vec3,
 };
 use picomis_tests::{camera, heuristics, quad_corners};
 
@@ -48,9 +50,13 @@ fn ggx(alpha: f32) -> Material {
     Material::ggx_conductor(alpha, Rgb::new(0.9, 0.7, 0.5)).unwrap()
 }
 
+/// Light sampling by contribution (spheres in their cone, quads by area, no lobe mixing).
+type ByContributionSampler<'a> =
+    LightSampler<'a, Lights<ByContribution<6>, sphere::InCone, quad::ByArea, lobe::Off>, 5, 6, 1>;
+
 /// Light sampling by contribution in `s`.
-fn by_contribution(s: &LightScene) -> LightSampler<'_, 5, 6, 1> {
-    LightSampler::new(s, LightSelection::Contribution, SphereSampling::Cone)
+fn by_contribution(s: &LightScene) -> ByContributionSampler<'_> {
+    LightSampler::new(s)
 }
 
 #[test]

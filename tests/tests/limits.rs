@@ -4,10 +4,12 @@
 
 use picomis::{
     CameraDesc, Estimate, Field, Film, FovAxis, Heuristic, MAX_CONTRIBUTION, MAX_EMISSION, Material, Method,
-    RenderSettings, Rgb, Scene, SceneError, Shape, SphereSampling, TechniqueEstimate, Vec3, render_pixel,
+    RenderSettings, Rgb, SceneError, Shape, SphereSampling, TechniqueEstimate, Vec3,
 };
+use picomis_host::{HostScene, renderer};
 
-type S = Scene<2, 2, 2>;
+/// The scenes' type: the host's (the settings are chosen at run time).
+type S = HostScene;
 
 fn camera() -> CameraDesc {
     CameraDesc {
@@ -59,9 +61,10 @@ fn the_brightest_valid_scene_renders_finite_pixels() {
         (Method::LightOnly, SphereSampling::Area),
     ] {
         let settings = RenderSettings::new(method, 2, 2, 64, 3).unwrap().with_sphere_sampling(spheres);
+        let it = renderer(&s, &settings).unwrap();
         for y in 0..film.height() {
             for x in 0..film.width() {
-                let e = render_pixel(&s, &settings, x, y);
+                let e = it.render_pixel(x, y);
                 let parts = [e.emitted, e.light.contribution, e.bsdf.contribution, e.radiance()];
                 assert!(parts.iter().all(|p| p.is_finite()), "{method:?} pixel ({x}, {y}): {e:?}");
                 assert!(e.light.weight_sum.is_finite() && e.bsdf.weight_sum.is_finite());
@@ -76,9 +79,9 @@ fn the_brightest_valid_scene_renders_finite_pixels() {
 
 #[test]
 fn the_largest_sums_stay_finite() {
-    // The sums `render_pixel` forms before dividing by spp, in the worst case: 2^16 samples per
-    // technique per camera sample, each at the bound, and 2^32 camera samples; emitted light at
-    // the maximum in every camera sample.
+    // The sums the estimator's `render_pixel` forms before dividing by spp, in the worst case:
+    // 2^16 samples per technique per camera sample, each at the bound, and 2^32 camera samples;
+    // emitted light at the maximum in every camera sample.
     let part = Rgb::splat(MAX_CONTRIBUTION * 2f32.powi(16) * 2f32.powi(32));
     let worst = Estimate {
         emitted: Rgb::splat(MAX_EMISSION * 2f32.powi(32)),

@@ -6,10 +6,11 @@
 //! standard errors (fourth moments), and shown to be able to fail.
 //!
 //! Each check draws N independent estimates (estimate i from `Sampler::new(seed, stream, i)`)
-//! through `picomis::estimate_direct` and asserts |mean - exact| < 4 stderr with stderr < 2% of
-//! the exact value.
+//! through the estimator's `estimate_direct` (`picomis_host::renderer`, in the host's scene type)
+//! and asserts |mean - exact| < 4 stderr with stderr < 2% of the exact value.
 
 use picomis::{Film, Heuristic, Hit, Material, Method, MisModel, RenderSettings, Rgb, Scene, Shape, Vec3};
+use picomis_host::HostScene;
 use picomis_tests::{
     DVec3, Stats, assert_unbiased, camera, check_agreement, d3, direct_stats, floor_corners, heuristics,
     lambert_polygon_irradiance, quad_corners, shading_hit, sphere_irradiance_at,
@@ -21,7 +22,8 @@ const MAX_REL_STDERR: f64 = 0.02;
 const SEED: u32 = 0x0001_5A3F;
 const RHO: f32 = 0.8;
 
-type S = Scene<4, 3, 3>;
+/// The scenes' type: the host's (the settings are chosen at run time).
+type S = HostScene;
 
 fn one_sample(method: Method, c_light: f32) -> RenderSettings {
     RenderSettings::new(method, 1, 1, 1, SEED).unwrap().with_mis_model(MisModel::One { c_light }).unwrap()

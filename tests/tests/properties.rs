@@ -42,13 +42,18 @@ use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::geometry::{OriginDimensions, Size};
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use embedded_graphics_core::primitives::{PointsIter, Rectangle};
+use picomis::integrator::{control_variate, model};
+use picomis::light::LightStrategies;
+use picomis::light::lobe::Lobe;
 use picomis::num::Frame;
 use picomis::sampling::{sample_cosine_hemisphere, sample_uniform_sphere};
 use picomis::{
-    CameraDesc, Estimate, Film, FovAxis, Heuristic, Light, LightId, LightSampler, LightSelection, LobeMixing,
-    Material, Method, QuadSampling, Ray, RenderSettings, Rgb, Sampler, Scene, ShadingPoint, Shape, ShapeId,
-    SphereSampling, SurfacePoint, Vec3, render, render_pixel, render_tile, tiles, tone_map,
+    CameraDesc, Direct, Estimate, Film, FovAxis, Heuristic, Integrator, Light, LightId, LightSampler,
+    LightSelection, LobeMixing, Material, Method, QuadSampling, Ray, RenderSettings, Rgb, Sampler, Scene,
+    ShadingPoint, Shape, ShapeId, SphereSampling, SurfacePoint, Vec3, tiles, tone_map,
 };
+use picomis_host::{HOST_LIGHTS, HOST_MATERIALS, HOST_SHAPES, HostScene, Renderer, renderer};
+use picomis_tests::{LightChoices, VisitLights};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseResult, TestRng, TestRunner};
 use std::cell::RefCell;
@@ -56,7 +61,19 @@ use std::collections::BTreeMap;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-type S = Scene<8, 8, 8>;
+/// The scenes' type: the host's (their settings are drawn at run time).
+type S = HostScene;
+
+/// The light sampler of a random scene with the strategies `Lt`.
+type Sampling<'a, Lt> = LightSampler<'a, Lt, HOST_SHAPES, HOST_LIGHTS, HOST_MATERIALS>;
+
+/// The estimator of `settings` on `scene` (the host's, for the strategies the settings name).
+fn estimator<'a>(
+    scene: &'a S,
+    settings: &'a RenderSettings,
+) -> Result<Box<dyn Renderer + 'a>, TestCaseError> {
+    renderer(scene, settings).map_err(|e| TestCaseError::fail(format!("{settings:?}: {e}")))
+}
 
 /// Runs `test` on `cases` values of `strategy` drawn from a fixed ChaCha seed (no failure
 /// files, `PROPTEST_*` variables have no say), and panics with the (shrunk) failing input.
@@ -267,7 +284,6 @@ fn settings() -> impl Strategy<Value = RenderSettings> {
                 .with_light_selection(LightSelection::ALL[selection])
                 .with_quad_sampling(quads)
                 .with_lobe_mixing(lobe)
-                .unwrap()
         },
     )
 }
@@ -327,9 +343,10 @@ fn render_pixel_outputs_are_finite() {
     check_property(3000, (scene_spec(), settings()), |(spec, settings)| {
         let Some(scene) = build(&spec, 6, 4) else { return Ok(()) };
         tally.add("scene");
+        let it = estimator(&scene, &settings)?;
         for y in 0..4 {
             for x in 0..6 {
-                check_estimate(&render_pixel(&scene, &settings, x, y), &settings, (x, y), &tally)?;
+                check_estimate(&it.render_pixel(x, y), &settings, (x, y), &tally)?;
             }
         }
         Ok(())
@@ -387,13 +404,39 @@ fn local_wo(rng: &mut Sampler) -> Vec3 {
     if w.z > 0.0 { w } else { Vec3::Z }
 }
 
-/// Checks the pdfs and weights at `points` random points on each object of `scene`.
+/// Checks the pdfs and weights at `points` random points on each object of `scene`, with the
+/// light sampler of the settings' selection, sphere and quad sampling (and no lobe mixing).
 fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) -> TestCaseResult {
-    let (spheres, selection) = (settings.sphere_sampling(), settings.light_selection());
+    let choices = LightChoices::of(settings).with_lobe_mixing(LobeMixing::Off);
+    choices.visit(PdfCheck { scene, settings, points, tally })
+}
+
+/// [`check_pdfs`] with its light sampler's strategies as a type.
+struct PdfCheck<'a> {
+    scene: &'a S,
+    settings: &'a RenderSettings,
+    points: u32,
+    tally: &'a Tally,
+}
+
+impl VisitLights<HOST_LIGHTS> for PdfCheck<'_> {
+    type Output = TestCaseResult;
+    fn visit<Lt: LightStrategies<HOST_LIGHTS>>(self) -> TestCaseResult {
+        check_pdfs_with(&Sampling::<Lt>::new(self.scene), self.settings, self.points, self.tally)
+    }
+}
+
+/// [`check_pdfs`] with the light sampler `lights`.
+fn check_pdfs_with<Lt: LightStrategies<HOST_LIGHTS>>(
+    lights: &Sampling<'_, Lt>,
+    settings: &RenderSettings,
+    points: u32,
+    tally: &Tally,
+) -> TestCaseResult {
+    let scene = lights.scene();
     let (n_l, n_b) = settings.technique_samples();
     let counts = [(1.0, 1.0), (f32::from(n_l), f32::from(n_b))];
     let mut rng = Sampler::new(settings.seed(), 0x9DF, 0);
-    let lights = LightSampler::new(scene, selection, spheres).with_quad_sampling(settings.quad_sampling());
     for (object, o) in scene.objects().iter().enumerate() {
         let object = ShapeId::new(object as u16);
         let material = *scene.material(object).unwrap();
@@ -443,7 +486,7 @@ fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) 
                     if let Some((i, light)) = emitter {
                         prop_assert_eq!(light, chosen.light, "{}: the sample's emitter", what);
                         let shape = &scene.objects()[i.index()].shape;
-                        tally.add(check_sample_pdf(&lights, shape, light, &point, &ls, settings, &what)?);
+                        tally.add(check_sample_pdf(lights, shape, light, &point, &ls, settings, &what)?);
                     }
                     if f != Rgb::ZERO {
                         tally.add("light sample with f > 0");
@@ -525,8 +568,8 @@ fn check_bsdf_sample(
 /// The pdf of a light sample re-evaluated by `LightSampler::pdf` at the point it found equals the
 /// sample's own pdf: exactly for the cone (it depends on the shading point only), to rounding of
 /// the re-constructed point for area sampling (checked where that rounding is below 1%).
-fn check_sample_pdf(
-    lights: &LightSampler<'_, 8, 8, 8>,
+fn check_sample_pdf<Lt: LightStrategies<HOST_LIGHTS>>(
+    lights: &Sampling<'_, Lt>,
     shape: &Shape,
     light: LightId,
     at: &ShadingPoint,
@@ -544,7 +587,7 @@ fn check_sample_pdf(
     // re-evaluated from the point, to the rounding of the direction through the GGX lobe (at
     // most 1/alpha per unit of angle), plus the light's own part's rounding.
     let by_lobe = settings.lobe_mixing() == LobeMixing::On
-        && picomis::light::lobe::Lobe::towards(shape, p, at.n, at.wo, &at.bsdf).is_some();
+        && Lobe::towards::<Lt::Spheres, Lt::Quads>(shape, p, at.n, at.wo, &at.bsdf).is_some();
     let by_cone = spheres == SphereSampling::Cone && shape.as_sphere().is_some_and(outside) && !by_lobe;
     let cos_y = y.n.dot(-ls.wi);
     // Rounding of the re-constructed point (~1e-7 of the coordinates) moves the pdf
@@ -604,15 +647,24 @@ fn point_lights_have_no_light_pdf() {
     scene.add_point_light(Vec3::Y, Rgb::ONE).unwrap();
     assert!(matches!(scene.lights()[0], Light::Point { .. }));
     let y = SurfacePoint { p: Vec3::Y, n: -Vec3::Y };
+    /// The light pdf of the point light at `y`, by the sampler of the strategies `Lt`.
+    struct PointPdf<'a>(&'a S, SurfacePoint);
+    impl VisitLights<HOST_LIGHTS> for PointPdf<'_> {
+        type Output = f32;
+        fn visit<Lt: LightStrategies<HOST_LIGHTS>>(self) -> f32 {
+            let lights = Sampling::<Lt>::new(self.0);
+            let at = ShadingPoint {
+                p: Vec3::ZERO,
+                n: Vec3::Y,
+                wo: Vec3::Y,
+                bsdf: Material::lambertian(Rgb::ONE).unwrap(),
+            };
+            lights.pdf(LightId::new(0), &at, &self.1)
+        }
+    }
     for (spheres, lobe) in SphereSampling::ALL.into_iter().zip(LobeMixing::ALL) {
-        let lights = LightSampler::new(&scene, LightSelection::Uniform, spheres).with_lobe_mixing(lobe);
-        let at = ShadingPoint {
-            p: Vec3::ZERO,
-            n: Vec3::Y,
-            wo: Vec3::Y,
-            bsdf: Material::lambertian(Rgb::ONE).unwrap(),
-        };
-        assert_eq!(lights.pdf(LightId::new(0), &at, &y), 0.0);
+        let choices = LightChoices::new(LightSelection::Uniform, spheres).with_lobe_mixing(lobe);
+        assert_eq!(choices.visit(PointPdf(&scene, y)), 0.0, "{choices:?}");
     }
 }
 
@@ -645,15 +697,15 @@ fn bits(e: &Estimate) -> [u32; 13] {
 
 type Image = Vec<[u32; 13]>;
 
-fn pixel_bits(scene: &S, settings: &RenderSettings, i: u32) -> [u32; 13] {
-    bits(&render_pixel(scene, settings, i % W, i / W))
+fn pixel_bits(it: &dyn Renderer, i: u32) -> [u32; 13] {
+    bits(&it.render_pixel(i % W, i / W))
 }
 
 /// Renders pixel indices in `order` into a row-major image.
-fn render_in_order(scene: &S, settings: &RenderSettings, order: impl Iterator<Item = u32>) -> Image {
+fn render_in_order(it: &dyn Renderer, order: impl Iterator<Item = u32>) -> Image {
     let mut img = vec![[0; 13]; (W * H) as usize];
     for i in order {
-        img[i as usize] = pixel_bits(scene, settings, i);
+        img[i as usize] = pixel_bits(it, i);
     }
     img
 }
@@ -753,19 +805,17 @@ impl DrawTarget for Framebuffer {
 
 fn check_determinism(scene: &S, settings: &RenderSettings, tile: Size, seed: u32) -> TestCaseResult {
     let n = W * H;
-    let reference = render_in_order(scene, settings, 0..n);
+    let it = &*estimator(scene, settings)?;
+    let reference = render_in_order(it, 0..n);
     let mut variants = vec![
-        ("reverse order".to_string(), render_in_order(scene, settings, (0..n).rev())),
-        (
-            format!("shuffled {tile:?} tiles"),
-            render_in_order(scene, settings, tile_order(tile, seed).into_iter()),
-        ),
+        ("reverse order".to_string(), render_in_order(it, (0..n).rev())),
+        (format!("shuffled {tile:?} tiles"), render_in_order(it, tile_order(tile, seed).into_iter())),
     ];
     let order = shuffled(n as usize, seed);
     for threads in [2, 3, 4] {
         let per_pixel = render_threaded(threads, n as usize, |j| {
             let i = order[j] as u32;
-            vec![(i, pixel_bits(scene, settings, i))]
+            vec![(i, pixel_bits(it, i))]
         });
         variants.push((format!("{threads} threads, shuffled pixels"), per_pixel));
         let all: Vec<Rectangle> = tiles(scene.film(), tile).collect();
@@ -773,7 +823,7 @@ fn check_determinism(scene: &S, settings: &RenderSettings, tile: Size, seed: u32
             let r = all[j];
             r.rows()
                 .flat_map(|y| r.columns().map(move |x| y as u32 * W + x as u32))
-                .map(|i| (i, pixel_bits(scene, settings, i)))
+                .map(|i| (i, pixel_bits(it, i)))
                 .collect()
         });
         variants.push((format!("{threads} threads, {tile:?} tiles"), per_tile));
@@ -791,15 +841,49 @@ fn check_determinism(scene: &S, settings: &RenderSettings, tile: Size, seed: u32
         }
     }
 
-    // The same through the DrawTarget path: `render` in row-major tiles, and `render_tile` per
-    // shuffled tile on 3 threads, each into its own framebuffer, copied into one.
+    // The same through the DrawTarget path of the estimator of the settings' strategies.
+    LightChoices::of(settings).visit(DrawPaths { scene, settings, tile, seed })
+}
+
+/// The DrawTarget path of [`check_determinism`], through the estimator of the light strategies
+/// `Lt`, without the control variate, in the multi-sample model (what [`settings`] draws).
+struct DrawPaths<'a> {
+    scene: &'a S,
+    settings: &'a RenderSettings,
+    tile: Size,
+    seed: u32,
+}
+
+/// The estimator of the light strategies `Lt`, without the control variate, in the multi-sample
+/// model.
+type DrawIntegrator<'a, Lt> =
+    Integrator<'a, Direct<Lt, control_variate::Off, model::Multi>, HOST_SHAPES, HOST_LIGHTS, HOST_MATERIALS>;
+
+impl VisitLights<HOST_LIGHTS> for DrawPaths<'_> {
+    type Output = TestCaseResult;
+    fn visit<Lt: LightStrategies<HOST_LIGHTS>>(self) -> TestCaseResult {
+        let (scene, settings) = (self.scene, self.settings);
+        let it = DrawIntegrator::<Lt>::new(scene, settings)
+            .map_err(|e| TestCaseError::fail(format!("{settings:?}: {e}")))?;
+        check_draw_paths(&it, self.tile, self.seed)
+    }
+}
+
+/// `render` in row-major tiles, and `render_tile` per shuffled tile on 3 threads, each into its
+/// own framebuffer, copied into one: the same bytes, and those of `tone_map` of the pixels.
+fn check_draw_paths<Lt: LightStrategies<HOST_LIGHTS>>(
+    it: &DrawIntegrator<'_, Lt>,
+    tile: Size,
+    seed: u32,
+) -> TestCaseResult {
+    let (n, scene) = (W * H, it.scene());
     let full = Rectangle::new(embedded_graphics_core::geometry::Point::zero(), Size::new(W, H));
     let mut whole = Framebuffer::new(full);
-    let stats = render(scene, settings, tile, &mut whole, |_, _| {}).unwrap();
+    let stats = it.render(tile, &mut whole, |_, _| {}).unwrap();
     prop_assert_eq!(stats.pixels, n);
     let mapped: Vec<u8> = (0..n)
         .flat_map(|i| {
-            let c = tone_map(render_pixel(scene, settings, i % W, i / W).radiance());
+            let c = tone_map(it.render_pixel(i % W, i / W).radiance());
             [c.r(), c.g(), c.b()]
         })
         .collect();
@@ -815,7 +899,7 @@ fn check_determinism(scene: &S, settings: &RenderSettings, tile: Size, seed: u32
                     let j = next.fetch_add(1, Ordering::Relaxed);
                     let Some(&t) = order.get(j) else { break };
                     let mut fb = Framebuffer::new(all[t]);
-                    render_tile(scene, settings, &all[t], &mut fb).unwrap();
+                    it.render_tile(&all[t], &mut fb).unwrap();
                     parts.lock().unwrap().push(fb);
                 }
             });
@@ -836,8 +920,8 @@ fn images_depend_only_on_the_seed() {
     let tile = (1u32..=7, 1u32..=5).prop_map(|(w, h)| Size::new(w, h));
     check_property(64, (scene_spec(), settings(), tile, any::<u32>()), |(spec, settings, tile, seed)| {
         let Some(scene) = build(&spec, W, H) else { return Ok(()) };
-        let lit = (0..W * H)
-            .filter(|&i| render_pixel(&scene, &settings, i % W, i / W).radiance().max_element() > 0.0);
+        let it = estimator(&scene, &settings)?;
+        let lit = (0..W * H).filter(|&i| it.render_pixel(i % W, i / W).radiance().max_element() > 0.0);
         if lit.count() > 10 {
             tally.add("image with more than 10 lit pixels");
         }

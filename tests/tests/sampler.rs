@@ -12,8 +12,9 @@
 
 use picomis::{
     Film, Heuristic, LightSelection, Material, Method, RenderSettings, Rgb, Sampler, SamplerKind, Scene,
-    Shape, Vec3, estimate_direct,
+    Shape, Vec3,
 };
+use picomis_host::{HostScene, renderer};
 use picomis_tests::{
     DVec3, Stats, assert_unbiased, camera, d3, floor_corners, lambert_polygon_irradiance, quad_corners,
     shading_hit, sphere_irradiance_at,
@@ -24,8 +25,8 @@ const SPP: u32 = 256;
 const REPLICAS: u32 = 256;
 const ALBEDO: f32 = 0.8;
 
-fn scene() -> (Scene<3, 2, 2>, f64) {
-    let mut s: Scene<3, 2, 2> = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
+fn scene() -> (HostScene, f64) {
+    let mut s: HostScene = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
     let white = s.add_material(Material::lambertian(Rgb::splat(ALBEDO)).unwrap()).unwrap();
     let black = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
     s.add_shape(Shape::quad(floor_corners(50.0)).unwrap(), white).unwrap();
@@ -42,7 +43,8 @@ fn scene() -> (Scene<3, 2, 2>, f64) {
 }
 
 /// Statistics of `REPLICAS` pixel estimates of `SPP` samples each (channel 0).
-fn replicas(scene: &Scene<3, 2, 2>, settings: &RenderSettings) -> Stats {
+fn replicas(scene: &HostScene, settings: &RenderSettings) -> Stats {
+    let it = renderer(scene, settings).unwrap();
     let hit = shading_hit(picomis::ShapeId::new(0), Vec3::ZERO, Vec3::Y);
     let wo = Vec3::new(0.3, 0.9, -0.2).normalize();
     let mut st = Stats::new();
@@ -50,7 +52,7 @@ fn replicas(scene: &Scene<3, 2, 2>, settings: &RenderSettings) -> Stats {
         let mut sum = 0.0f64;
         for i in 0..SPP {
             let mut sampler = Sampler::with_kind(settings.sampler(), settings.seed(), pixel, i);
-            let (l, b) = estimate_direct(scene, settings, &hit, wo, &mut sampler);
+            let (l, b) = it.estimate_direct(&hit, wo, &mut sampler);
             sum += f64::from(l.contribution.x + b.contribution.x);
         }
         st.push(sum / f64::from(SPP));

@@ -9,6 +9,9 @@
 //!    4 pi, cone 2 pi (1 - cos theta_max) down to r/d = 1e-6, a sphere light's cone by area
 //!    sampling, a quad light's solid angle (Van Oosterom-Strackee).
 
+use picomis::light::select::{ByContribution, ByPower, Uniform};
+use picomis::light::sphere::{InCone, SphereSampler};
+use picomis::light::{LightStrategies, Lights, Select, lobe, quad, sphere};
 use picomis::sampling::{
     cone_one_minus_cos, cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_uniform_cone,
     sample_uniform_sphere, uniform_cone_pdf, uniform_sphere_pdf,
@@ -18,8 +21,8 @@ use picomis::{
     ShapeId, SphereSampling, SurfacePoint, Vec2, Vec3,
 };
 use picomis_tests::{
-    Cap, DVec3, Histogram2d, Stats, assert_chi2, assert_unbiased, camera, channel_mean, cone_measure, d3, f3,
-    frame, histogram, polygon_solid_angle, quad_corners,
+    Cap, DVec3, Histogram2d, LightChoices, Stats, VisitLights, assert_chi2, assert_unbiased, camera,
+    channel_mean, cone_measure, d3, f3, frame, histogram, polygon_solid_angle, quad_corners,
 };
 use std::f64::consts::PI;
 
@@ -113,20 +116,69 @@ impl QuadChart {
     }
 }
 
-/// An emitting sphere as a kernel light and its shape.
-fn sphere_light(c: Vec3, r: f32) -> (Light, Shape) {
-    (Light::Area { shape: ShapeId::new(0), radiance: Rgb::ONE }, Shape::sphere(c, r).unwrap())
+/// A scene whose only light is one emitting shape.
+type OneLightScene = Scene<1, 1, 1>;
+
+/// The light of a [`OneLightScene`].
+const LIGHT: LightId = LightId::new(0);
+
+/// The light sampler of a [`OneLightScene`] drawing on spheres by `Sp` (quads by area, no lobe
+/// mixing): a light's own sampling technique, `sample` / `pdf` of the one light.
+type OneLightSampler<'a, Sp> = LightSampler<'a, Lights<Uniform, Sp, quad::ByArea, lobe::Off>, 1, 1, 1>;
+
+/// An emitting shape (radiance 1) as the only light of a scene.
+struct OneLight {
+    scene: OneLightScene,
+}
+
+impl OneLight {
+    fn new(shape: Shape) -> Self {
+        let mut scene: OneLightScene = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
+        let black = scene.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
+        let id = scene.add_shape(shape, black).unwrap();
+        scene.add_area_light(id, Rgb::ONE).unwrap();
+        OneLight { scene }
+    }
+
+    /// The emitting shape.
+    fn shape(&self) -> &Shape {
+        &self.scene.objects()[0].shape
+    }
+
+    /// The light's sampler drawing on spheres by `Sp`.
+    fn sampler<Sp: SphereSampler>(&self) -> OneLightSampler<'_, Sp> {
+        LightSampler::new(&self.scene)
+    }
+}
+
+/// The shading point at `x` as the light sampler sees it: with spheres by area or cone, quads by
+/// area and no lobe mixing, a light sample depends on its position alone.
+fn at(x: Vec3) -> ShadingPoint {
+    ShadingPoint { p: x, n: Vec3::Y, wo: Vec3::Y, bsdf: Material::lambertian(Rgb::ONE).unwrap() }
+}
+
+/// An emitting sphere as the only light of a scene, and its shape.
+fn sphere_light(c: Vec3, r: f32) -> (OneLight, Shape) {
+    let light = OneLight::new(Shape::sphere(c, r).unwrap());
+    let shape = *light.shape();
+    (light, shape)
 }
 
 /// Solid-angle pdf of a light's sampling technique at a direction from `x`, found as the kernel's
-/// estimator finds it: trace the direction to the shape, then ask `pdf_li` (0 on a miss).
-fn pdf_towards(light: &Light, shape: &Shape, x: Vec3, dir: DVec3, spheres: SphereSampling) -> f64 {
+/// estimator finds it: trace the direction to the shape, then ask the sampler's `pdf` (0 on a
+/// miss).
+fn pdf_towards<Sp: SphereSampler>(
+    lights: &OneLightSampler<'_, Sp>,
+    shape: &Shape,
+    x: Vec3,
+    dir: DVec3,
+) -> f64 {
     let ray = picomis::Ray { origin: x, dir: f3(dir.normalize()) };
     match shape.intersect(&ray, 0.0, f32::INFINITY) {
         Some(t) => {
             let p = ray.at(t);
             let y = SurfacePoint { p, n: shape.normal_at(p) };
-            f64::from(light.pdf_li(Some(shape), x, &y, spheres))
+            f64::from(lights.pdf(LIGHT, &at(x), &y))
         }
         None => 0.0,
     }
@@ -242,7 +294,7 @@ fn chi2_ggx_rough() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Chi-square: light sampling through Light::sample_li / Light::pdf_li
+// Chi-square: a light's own sampling through LightSampler::sample / LightSampler::pdf (one light)
 
 /// A shading point and a unit direction off every axis.
 fn setup() -> (Vec3, Vec3) {
@@ -255,6 +307,7 @@ fn chi2_sphere_light_by_cone() {
     for (k, r_over_d) in [0.5f32, 0.1, 1e-2].into_iter().enumerate() {
         let d = 3.0;
         let (light, shape) = sphere_light(x + dir * d, r_over_d * d);
+        let lights = light.sampler::<InCone>();
         let (c, r) = shape.as_sphere().unwrap();
         let theta_s = (f64::from(r) / (d3(c) - d3(x)).length()).asin();
         let cap = Cap::new(d3(c) - d3(x), 1.25 * theta_s);
@@ -263,10 +316,10 @@ fn chi2_sphere_light_by_cone() {
             64,
             N_CHI2,
             100 + k as u32,
-            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Cone),
+            |u| lights.sample(LIGHT, &at(x), u),
             |s| cap.coords(d3(s.wi)),
         );
-        let pdf = |w: DVec3| pdf_towards(&light, &shape, x, w, SphereSampling::Cone);
+        let pdf = |w: DVec3| pdf_towards(&lights, &shape, x, w);
         h.assert_matches(&format!("sphere light by cone, r/d = {r_over_d}"), cap.density(pdf), CHI2_TESTS);
     }
 }
@@ -277,6 +330,7 @@ fn chi2_sphere_light_by_area() {
     for (k, r_over_d) in [0.8f32, 0.3, 0.05].into_iter().enumerate() {
         let d = 2.0;
         let (light, shape) = sphere_light(x + dir * d, r_over_d * d);
+        let lights = light.sampler::<sphere::ByArea>();
         let (c, r) = shape.as_sphere().unwrap();
         let chart = VisibleCap::new(x, c, r);
         let h = histogram(
@@ -284,12 +338,10 @@ fn chi2_sphere_light_by_area() {
             64,
             N_CHI2,
             110 + k as u32,
-            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Area),
+            |u| lights.sample(LIGHT, &at(x), u),
             |s| chart.coords(sample_point(x, s.wi, s.distance)),
         );
-        let pdf = |p: Vec3, n: Vec3| {
-            f64::from(light.pdf_li(Some(&shape), x, &SurfacePoint { p, n }, SphereSampling::Area))
-        };
+        let pdf = |p: Vec3, n: Vec3| f64::from(lights.pdf(LIGHT, &at(x), &SurfacePoint { p, n }));
         let label = format!("sphere light by area, r/d = {r_over_d}");
         let c2 = h.assert_matches(&label, chart.density(pdf), CHI2_TESTS);
         // About half of the points lie on the far side: P(no sample) = (1 + r/d) / 2.
@@ -303,12 +355,13 @@ fn chi2_sphere_light_by_area() {
     }
 }
 
-/// A tilted parallelogram light facing the shading points of [`quad_points`].
-fn quad_light() -> (Light, Shape, [Vec3; 4]) {
+/// A tilted parallelogram light facing the shading points of [`quad_points`], as the only light of
+/// a scene, its shape and its corners.
+fn quad_light() -> (OneLight, Shape, [Vec3; 4]) {
     let corners =
         quad_corners(Vec3::new(-0.6, 1.5, 0.8), Vec3::new(0.0, 0.3, -1.4), Vec3::new(1.1, 0.2, 0.1));
     let shape = Shape::quad(corners).unwrap();
-    (Light::Area { shape: ShapeId::new(0), radiance: Rgb::ONE }, shape, corners)
+    (OneLight::new(shape), shape, corners)
 }
 
 fn quad_points() -> [Vec3; 2] {
@@ -318,6 +371,7 @@ fn quad_points() -> [Vec3; 2] {
 #[test]
 fn chi2_quad_light_by_area() {
     let (light, shape, corners) = quad_light();
+    let lights = light.sampler::<InCone>();
     for (k, x) in quad_points().into_iter().enumerate() {
         // The light faces x.
         assert!(shape.normal_at(corners[0]).dot(x - corners[0]) > 0.0);
@@ -327,12 +381,10 @@ fn chi2_quad_light_by_area() {
             32,
             N_CHI2,
             120 + k as u32,
-            |u| light.sample_li(Some(&shape), x, u, SphereSampling::Cone),
+            |u| lights.sample(LIGHT, &at(x), u),
             |s| chart.coords(sample_point(x, s.wi, s.distance)),
         );
-        let pdf = |p: Vec3, n: Vec3| {
-            f64::from(light.pdf_li(Some(&shape), x, &SurfacePoint { p, n }, SphereSampling::Cone))
-        };
+        let pdf = |p: Vec3, n: Vec3| f64::from(lights.pdf(LIGHT, &at(x), &SurfacePoint { p, n }));
         h.assert_matches(&format!("quad light by area from {x}"), chart.density(pdf), CHI2_TESTS);
     }
 }
@@ -416,26 +468,36 @@ fn chi2_light_selection() {
             // f32 arithmetic against f64.
             LightSelection::Contribution => (importance.iter().map(|p| p / total_importance).collect(), 1e-4),
         };
-        let lights = LightSampler::new(&s, selection, SphereSampling::Cone);
-        let bsdf = Material::lambertian(Rgb::splat(0.5)).unwrap();
-        let at = lights.selection_at(&ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo: Vec3::Y, bsdf });
-        for (i, e) in exact.iter().enumerate() {
-            let p = f64::from(lights.pmf(&at, LightId::new(i as u16)));
-            assert!(
-                (p - e).abs() < tolerance * e.max(1.0),
-                "{selection:?}: P(light {i}) = {p}, expected {e}"
-            );
+        match selection {
+            LightSelection::Uniform => check_selection::<Uniform>(&s, k as u32, &exact, tolerance),
+            LightSelection::Power => check_selection::<ByPower<5>>(&s, k as u32, &exact, tolerance),
+            LightSelection::Contribution => {
+                check_selection::<ByContribution<5>>(&s, k as u32, &exact, tolerance)
+            }
         }
-        let mut rng = Sampler::new(200 + k as u32, 0, 0);
-        let mut observed = vec![0.0; 4];
-        for _ in 0..N_CHI2 {
-            let chosen = lights.select(&at, rng.next_f32()).unwrap();
-            assert_eq!(chosen.probability, lights.pmf(&at, chosen.light));
-            observed[chosen.light.index()] += 1.0;
-        }
-        let expected: Vec<f64> = exact.iter().map(|p| p * N_CHI2 as f64).collect();
-        assert_chi2(&format!("light selection {selection:?}"), &observed, &expected, CHI2_TESTS);
     }
+}
+
+/// One selection `Sel` of [`chi2_light_selection`]: its pmf at a Lambertian receiver at the
+/// origin against `exact` (to `tolerance`), and its choices against its pmf (chi-square).
+fn check_selection<Sel: Select<5>>(s: &LightScene, k: u32, exact: &[f64], tolerance: f64) {
+    let selection = Sel::KIND;
+    let lights = LightSampler::<Lights<Sel, InCone, quad::ByArea, lobe::Off>, 4, 5, 1>::new(s);
+    let bsdf = Material::lambertian(Rgb::splat(0.5)).unwrap();
+    let at = lights.selection_at(&ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo: Vec3::Y, bsdf });
+    for (i, e) in exact.iter().enumerate() {
+        let p = f64::from(lights.pmf(&at, LightId::new(i as u16)));
+        assert!((p - e).abs() < tolerance * e.max(1.0), "{selection:?}: P(light {i}) = {p}, expected {e}");
+    }
+    let mut rng = Sampler::new(200 + k, 0, 0);
+    let mut observed = vec![0.0; 4];
+    for _ in 0..N_CHI2 {
+        let chosen = lights.select(&at, rng.next_f32()).unwrap();
+        assert_eq!(chosen.probability, lights.pmf(&at, chosen.light));
+        observed[chosen.light.index()] += 1.0;
+    }
+    let expected: Vec<f64> = exact.iter().map(|p| p * N_CHI2 as f64).collect();
+    assert_chi2(&format!("light selection {selection:?}"), &observed, &expected, CHI2_TESTS);
 }
 
 /// Light selection by power is exact: every light is chosen with exactly the probability the
@@ -451,8 +513,10 @@ fn power_selection_realises_its_pmf_exactly() {
         let intensity = Rgb::splat(p / (4.0 * std::f32::consts::PI));
         s.add_point_light(Vec3::new(i as f32, 3.0, 0.0), intensity).unwrap();
     }
-    let lights = LightSampler::new(&s, LightSelection::Power, SphereSampling::Cone);
+    let lights = LightSampler::<Lights<ByPower<7>, InCone, quad::ByArea, lobe::Off>, 1, 7, 1>::new(&s);
     let bsdf = Material::lambertian(Rgb::ONE).unwrap();
+    // (By power the selection does not depend on the point: what it reads there is `()`.)
+    #[allow(clippy::let_unit_value)]
     let at = lights.selection_at(&ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo: Vec3::Y, bsdf });
     const GRID: u32 = 1 << 24;
     let mut counts = [0u64; 7];
@@ -480,81 +544,106 @@ fn chi2_scene_light_sampling() {
     // The light sampler's selection then a point, against pmf x pdf (the light technique's pdf
     // p_l = P(light) p_w): one chart per area light, one cell per point light, one for "no sample".
     let s = light_scene();
+    let mut k = 0;
+    for spheres in [SphereSampling::Cone, SphereSampling::Area] {
+        for selection in LightSelection::ALL {
+            k += 1;
+            LightChoices::new(selection, spheres).visit(SceneLightSampling { s: &s, spheres, selection, k });
+        }
+    }
+}
+
+/// One case of [`chi2_scene_light_sampling`] (the `k`-th), with the light sampler's strategies
+/// as a type.
+struct SceneLightSampling<'a> {
+    s: &'a LightScene,
+    spheres: SphereSampling,
+    selection: LightSelection,
+    k: u32,
+}
+
+impl VisitLights<5> for SceneLightSampling<'_> {
+    type Output = ();
+    fn visit<Lt: LightStrategies<5>>(self) {
+        scene_light_sampling::<Lt>(self.s, self.spheres, self.selection, self.k);
+    }
+}
+
+fn scene_light_sampling<Lt: LightStrategies<5>>(
+    s: &LightScene,
+    spheres: SphereSampling,
+    selection: LightSelection,
+    k: u32,
+) {
     let x = Vec3::new(0.2, 0.0, 0.3);
     let sphere = s.objects()[0].shape;
     let (c, r) = sphere.as_sphere().unwrap();
     let cone = Cap::new(d3(c) - d3(x), 1.25 * (f64::from(r) / (d3(c) - d3(x)).length()).asin());
     let cap = VisibleCap::new(x, c, r);
     let quad_chart = QuadChart::new(x, quad_light().2);
-    let mut k = 0;
-    for spheres in [SphereSampling::Cone, SphereSampling::Area] {
-        for selection in LightSelection::ALL {
-            k += 1;
-            let label = format!("scene light sampling {spheres:?} {selection:?}");
-            let mut hs = Histogram2d::new(40, 64);
-            let mut hq = Histogram2d::new(24, 24);
-            let (mut point, mut none) = ([0.0; 2], 0.0);
-            let lights = LightSampler::new(&s, selection, spheres);
-            let bsdf = Material::lambertian(Rgb::ONE).unwrap();
-            let shading = ShadingPoint { p: x, n: Vec3::Y, wo: Vec3::Y, bsdf };
-            let at = lights.selection_at(&shading);
-            let mut rng = Sampler::new(300 + k, 0, 0);
-            for _ in 0..N_CHI2 {
-                let u_select = rng.next_f32();
-                let u = rng.next_2d();
-                let chosen = lights.select(&at, u_select).unwrap();
-                let sample = lights.sample(chosen.light, &shading, u);
-                match sample.map(|ls| (ls, ls.emitter.map(ShapeId::index))) {
-                    Some((ls, Some(0))) => match spheres {
-                        SphereSampling::Cone => hs.add(cone.coords(d3(ls.wi))),
-                        SphereSampling::Area => hs.add(cap.coords(sample_point(x, ls.wi, ls.distance))),
-                    },
-                    Some((ls, Some(_))) => hq.add(quad_chart.coords(sample_point(x, ls.wi, ls.distance))),
-                    Some((ls, None)) => {
-                        // A point light (the bright one, or the dark one under uniform
-                        // selection): a delta light whose pdf is its selection probability.
-                        assert!(ls.delta && ls.pdf == 1.0);
-                        let i = if ls.radiance == Rgb::ZERO { 3 } else { 2 };
-                        assert_eq!(chosen.light, LightId::new(i), "{label}");
-                        point[usize::from(i) - 2] += 1.0;
-                    }
-                    None => none += 1.0,
-                }
+    let label = format!("scene light sampling {spheres:?} {selection:?}");
+    let mut hs = Histogram2d::new(40, 64);
+    let mut hq = Histogram2d::new(24, 24);
+    let (mut point, mut none) = ([0.0; 2], 0.0);
+    let lights = LightSampler::<Lt, 4, 5, 1>::new(s);
+    let bsdf = Material::lambertian(Rgb::ONE).unwrap();
+    let shading = ShadingPoint { p: x, n: Vec3::Y, wo: Vec3::Y, bsdf };
+    let at = lights.selection_at(&shading);
+    let mut rng = Sampler::new(300 + k, 0, 0);
+    for _ in 0..N_CHI2 {
+        let u_select = rng.next_f32();
+        let u = rng.next_2d();
+        let chosen = lights.select(&at, u_select).unwrap();
+        let sample = lights.sample(chosen.light, &shading, u);
+        match sample.map(|ls| (ls, ls.emitter.map(ShapeId::index))) {
+            Some((ls, Some(0))) => match spheres {
+                SphereSampling::Cone => hs.add(cone.coords(d3(ls.wi))),
+                SphereSampling::Area => hs.add(cap.coords(sample_point(x, ls.wi, ls.distance))),
+            },
+            Some((ls, Some(_))) => hq.add(quad_chart.coords(sample_point(x, ls.wi, ls.distance))),
+            Some((ls, None)) => {
+                // A point light (the bright one, or the dark one under uniform
+                // selection): a delta light whose pdf is its selection probability.
+                assert!(ls.delta && ls.pdf == 1.0);
+                let i = if ls.radiance == Rgb::ZERO { 3 } else { 2 };
+                assert_eq!(chosen.light, LightId::new(i), "{label}");
+                point[usize::from(i) - 2] += 1.0;
             }
-            let n = N_CHI2 as f64;
-            let pdf_at = |light: u16, p: Vec3, nrm: Vec3| {
-                let light = LightId::new(light);
-                let p_omega = lights.pdf(light, &shading, &SurfacePoint { p, n: nrm });
-                f64::from(lights.pmf(&at, light)) * f64::from(p_omega)
-            };
-            let (es, ts) = match spheres {
-                SphereSampling::Cone => {
-                    let ray_pdf = |w: DVec3| {
-                        let ray = picomis::Ray { origin: x, dir: f3(w) };
-                        sphere.intersect(&ray, 0.0, f32::INFINITY).map_or(0.0, |t| {
-                            let p = ray.at(t);
-                            pdf_at(0, p, sphere.normal_at(p))
-                        })
-                    };
-                    hs.cell_expectations(n, cone.density(ray_pdf))
-                }
-                SphereSampling::Area => hs.cell_expectations(n, cap.density(|p, nrm| pdf_at(0, p, nrm))),
-            };
-            let (eq, tq) = hq.cell_expectations(n, quad_chart.density(|p, nrm| pdf_at(1, p, nrm)));
-            let p_point = [2, 3].map(|i| n * f64::from(lights.pmf(&at, LightId::new(i))));
-            let mut observed = hs.observed[..=hs.cells()].to_vec();
-            observed.extend_from_slice(&hq.observed[..=hq.cells()]);
-            observed.extend_from_slice(&[point[0], point[1], none]);
-            let mut expected = es[..=hs.cells()].to_vec();
-            expected.extend_from_slice(&eq[..=hq.cells()]);
-            expected.extend_from_slice(&[
-                p_point[0],
-                p_point[1],
-                (n * (1.0 - ts - tq) - p_point[0] - p_point[1]).max(0.0),
-            ]);
-            assert_chi2(&label, &observed, &expected, CHI2_TESTS);
+            None => none += 1.0,
         }
     }
+    let n = N_CHI2 as f64;
+    let pdf_at = |light: u16, p: Vec3, nrm: Vec3| {
+        let light = LightId::new(light);
+        let p_omega = lights.pdf(light, &shading, &SurfacePoint { p, n: nrm });
+        f64::from(lights.pmf(&at, light)) * f64::from(p_omega)
+    };
+    let (es, ts) = match spheres {
+        SphereSampling::Cone => {
+            let ray_pdf = |w: DVec3| {
+                let ray = picomis::Ray { origin: x, dir: f3(w) };
+                sphere.intersect(&ray, 0.0, f32::INFINITY).map_or(0.0, |t| {
+                    let p = ray.at(t);
+                    pdf_at(0, p, sphere.normal_at(p))
+                })
+            };
+            hs.cell_expectations(n, cone.density(ray_pdf))
+        }
+        SphereSampling::Area => hs.cell_expectations(n, cap.density(|p, nrm| pdf_at(0, p, nrm))),
+    };
+    let (eq, tq) = hq.cell_expectations(n, quad_chart.density(|p, nrm| pdf_at(1, p, nrm)));
+    let p_point = [2, 3].map(|i| n * f64::from(lights.pmf(&at, LightId::new(i))));
+    let mut observed = hs.observed[..=hs.cells()].to_vec();
+    observed.extend_from_slice(&hq.observed[..=hq.cells()]);
+    observed.extend_from_slice(&[point[0], point[1], none]);
+    let mut expected = es[..=hs.cells()].to_vec();
+    expected.extend_from_slice(&eq[..=hq.cells()]);
+    expected.extend_from_slice(&[
+        p_point[0],
+        p_point[1],
+        (n * (1.0 - ts - tq) - p_point[0] - p_point[1]).max(0.0),
+    ]);
+    assert_chi2(&label, &observed, &expected, CHI2_TESTS);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -608,12 +697,13 @@ fn measure_sphere_light_by_cone_down_to_tiny_spheres() {
     for r_over_d in [1e-2f32, 1e-3, 1e-4, 1e-5, 1e-6] {
         let d = 2.0f32;
         let (light, shape) = sphere_light(x + dir * d, r_over_d * d);
+        let lights = light.sampler::<InCone>();
         let (c, r) = shape.as_sphere().unwrap();
         let exact = cone_measure(f64::from(r) / (d3(c) - d3(x)).length());
         let mut min_cos: f64 = 1.0;
         let axis = (d3(c) - d3(x)).normalize();
         let st = inverse_pdf_stats(5, 10_000, |u| {
-            let s = light.sample_li(Some(&shape), x, u, SphereSampling::Cone)?;
+            let s = lights.sample(LIGHT, &at(x), u)?;
             min_cos = min_cos.min(d3(s.wi).normalize().dot(axis));
             Some(s.pdf)
         });
@@ -633,24 +723,22 @@ fn measure_sphere_light_by_area() {
     for r_over_d in [0.5f32, 0.1, 1e-2, 1e-3] {
         let d = 2.0f32;
         let (light, shape) = sphere_light(x + dir * d, r_over_d * d);
+        let lights = light.sampler::<sphere::ByArea>();
         let (c, r) = shape.as_sphere().unwrap();
         let exact = cone_measure(f64::from(r) / (d3(c) - d3(x)).length());
-        let st = inverse_pdf_stats(6, N_MEASURE, |u| {
-            light.sample_li(Some(&shape), x, u, SphereSampling::Area).map(|s| s.pdf)
-        });
+        let st = inverse_pdf_stats(6, N_MEASURE, |u| lights.sample(LIGHT, &at(x), u).map(|s| s.pdf));
         assert_unbiased(&format!("E[1/p] sphere light by area, r/d = {r_over_d:e}"), &st, exact, 0.01);
     }
 }
 
 #[test]
 fn measure_quad_light() {
-    let (light, shape, corners) = quad_light();
+    let (light, _, corners) = quad_light();
+    let lights = light.sampler::<sphere::ByArea>();
     let verts = corners.map(d3);
     for x in quad_points() {
         let exact = polygon_solid_angle(d3(x), &verts);
-        let st = inverse_pdf_stats(7, N_MEASURE, |u| {
-            light.sample_li(Some(&shape), x, u, SphereSampling::Area).map(|s| s.pdf)
-        });
+        let st = inverse_pdf_stats(7, N_MEASURE, |u| lights.sample(LIGHT, &at(x), u).map(|s| s.pdf));
         assert_unbiased(&format!("E[1/p] quad light from {x}"), &st, exact, 0.01);
     }
 }

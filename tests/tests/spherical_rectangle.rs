@@ -15,10 +15,13 @@
 //!    quadrature, horizon cuts included), and with less variance than uniform solid angle where
 //!    the cosine varies over the rectangle.
 
+use picomis::light::quad::{self, QuadSampler};
+use picomis::light::select::Uniform;
+use picomis::light::{lobe, sphere};
 use picomis::sampling::spherical_rectangle;
 use picomis::{
-    Film, LightId, LightSample, LightSampler, LightSelection, Material, QuadSampling, Rgb, Sampler, Scene,
-    ShadingPoint, Shape, SphereSampling, SurfacePoint, Vec2, Vec3,
+    Film, LightId, LightSample, LightSampler, Lights, Material, QuadSampling, Rgb, Sampler, Scene,
+    ShadingPoint, Shape, SurfacePoint, Vec2, Vec3,
 };
 use picomis_tests::{
     DVec3, Stats, assert_unbiased, camera, d3, histogram, integrate_adaptive, polygon_solid_angle,
@@ -35,10 +38,33 @@ struct QuadLight {
     light: LightId,
 }
 
+/// The light sampler of a [`QuadLight`] drawing on quads by `Q` (uniform selection, spheres in
+/// their cone, no lobe mixing).
+type QuadLightSampler<'a, Q> = LightSampler<'a, Lights<Uniform, sphere::InCone, Q, lobe::Off>, 1, 1, 1>;
+
 impl QuadLight {
     fn sample(&self, at: &ShadingPoint, u: Vec2, quads: QuadSampling) -> Option<LightSample> {
-        let lights = LightSampler::new(&self.scene, LightSelection::Uniform, SphereSampling::Cone);
-        lights.with_quad_sampling(quads).sample(self.light, at, u)
+        match quads {
+            QuadSampling::Area => self.sample_by::<quad::ByArea>(at, u),
+            QuadSampling::SolidAngle => self.sample_by::<quad::SolidAngle>(at, u),
+            QuadSampling::SolidAngleCosine => self.sample_by::<quad::SolidAngleCosine>(at, u),
+        }
+    }
+
+    fn sample_by<Q: QuadSampler>(&self, at: &ShadingPoint, u: Vec2) -> Option<LightSample> {
+        QuadLightSampler::<Q>::new(&self.scene).sample(self.light, at, u)
+    }
+
+    fn pdf(&self, at: &ShadingPoint, y: &SurfacePoint, quads: QuadSampling) -> f32 {
+        match quads {
+            QuadSampling::Area => self.pdf_by::<quad::ByArea>(at, y),
+            QuadSampling::SolidAngle => self.pdf_by::<quad::SolidAngle>(at, y),
+            QuadSampling::SolidAngleCosine => self.pdf_by::<quad::SolidAngleCosine>(at, y),
+        }
+    }
+
+    fn pdf_by<Q: QuadSampler>(&self, at: &ShadingPoint, y: &SurfacePoint) -> f32 {
+        QuadLightSampler::<Q>::new(&self.scene).pdf(self.light, at, y)
     }
 }
 
@@ -68,8 +94,7 @@ fn rect(p0: Vec3, a: f32, b: f32) -> [Vec3; 4] {
 
 fn pdf(light: &QuadLight, shape: &Shape, at: &ShadingPoint, p: Vec3, quads: QuadSampling) -> f64 {
     let y = SurfacePoint { p, n: shape.normal_at(p) };
-    let lights = LightSampler::new(&light.scene, LightSelection::Uniform, SphereSampling::Cone);
-    f64::from(lights.with_quad_sampling(quads).pdf(light.light, at, &y))
+    f64::from(light.pdf(at, &y, quads))
 }
 
 /// The chi-square cases: a name, the light's corners, the receiver's normal and the strategy.

@@ -1,13 +1,55 @@
 //! What the two fuzz harnesses (`fuzz.rs`: the JSON loader; `fuzz_mitsuba.rs`: the Mitsuba 3
 //! importer) share: case counts, a runner with a fixed seed, byte-level edits, and the check that
-//! an accepted scene builds and renders finite pixels.
+//! an accepted scene builds and renders finite pixels; and the estimator of the lecture's
+//! strategies that they and `mitsuba.rs` render with ([`render_pixel`]).
 
 #![allow(dead_code)]
 
-use picomis::{Film, Heuristic, Method, RenderSettings, SphereSampling, render_pixel};
+use picomis::integrator::{control_variate, model};
+use picomis::light::select::Uniform;
+use picomis::light::{lobe, quad, sphere};
+use picomis::{
+    Direct, Estimate, Film, Heuristic, Integrator, Lights, Method, Preset, RenderSettings, Scene, SceneError,
+    SphereSampling,
+};
 use picomis_format::SceneFile;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+
+/// The lecture's strategies ([`Preset::Lecture`]) with spheres sampled by `Sp`.
+type Lecture<Sp> = Direct<Lights<Uniform, Sp, quad::ByArea, lobe::Off>, control_variate::Off, model::Multi>;
+
+/// The settings of `method` (`n_light` and `n_bsdf` samples, `spp`, `seed`) with the lecture's
+/// strategies and sphere lights sampled by `spheres`: what [`render_pixel`] renders.
+pub fn lecture_settings(
+    method: Method,
+    (n_light, n_bsdf): (u16, u16),
+    spp: u32,
+    seed: u32,
+    spheres: SphereSampling,
+) -> Result<RenderSettings, SceneError> {
+    let s = RenderSettings::new(method, n_light, n_bsdf, spp, seed)?;
+    Ok(s.with_strategies_of(Preset::Lecture).with_sphere_sampling(spheres))
+}
+
+/// The HDR estimate of pixel `(x, y)` of `scene` rendered with `settings`, whose strategies are
+/// the lecture's but for sphere sampling ([`lecture_settings`]): the estimator monomorphised for
+/// either sphere sampling ([`SceneError::StrategyMismatch`] for other strategies).
+pub fn render_pixel<const S: usize, const L: usize, const M: usize>(
+    scene: &Scene<S, L, M>,
+    settings: &RenderSettings,
+    x: u32,
+    y: u32,
+) -> Result<Estimate, SceneError> {
+    Ok(match settings.sphere_sampling() {
+        SphereSampling::Area => {
+            Integrator::<Lecture<sphere::ByArea>, S, L, M>::new(scene, settings)?.render_pixel(x, y)
+        }
+        SphereSampling::Cone => {
+            Integrator::<Lecture<sphere::InCone>, S, L, M>::new(scene, settings)?.render_pixel(x, y)
+        }
+    })
+}
 
 /// `default` cases, or `PICOMIS_FUZZ_CASES` for a long run.
 pub fn cases(default: u32) -> u32 {
@@ -39,11 +81,10 @@ pub fn renders_finite(scene: &SceneFile) -> Result<(), TestCaseError> {
         (Method::Mis(Heuristic::Balance), SphereSampling::Area),
         (Method::BsdfOnly, SphereSampling::Cone),
     ] {
-        let settings = RenderSettings::new(method, 1, 1, 2, 3)
-            .map_err(|e| TestCaseError::fail(e.to_string()))?
-            .with_sphere_sampling(spheres);
+        let settings = lecture_settings(method, (1, 1), 2, 3, spheres)
+            .map_err(|e| TestCaseError::fail(e.to_string()))?;
         for (x, y) in [(0, 0), (2, 1), (3, 2)] {
-            let e = render_pixel(&built, &settings, x, y);
+            let e = render_pixel(&built, &settings, x, y).map_err(|e| TestCaseError::fail(e.to_string()))?;
             prop_assert!(e.radiance().is_finite(), "non-finite pixel {} in an accepted scene", e.radiance());
         }
     }
