@@ -203,16 +203,25 @@ impl IntegratorDesc {
             (MisModel::Multi, None) => MisModel::Multi,
             (MisModel::One { c_light }, c) => MisModel::One { c_light: c.unwrap_or(c_light) },
         };
+        // (The control variate last: it depends on the method and the model.)
         let settings = settings
             .with_sampler(self.sampler.unwrap_or(base.sampler()))
             .with_light_selection(self.light_selection.unwrap_or(base.light_selection()))
             .with_sphere_sampling(self.sphere_sampling.unwrap_or(base.sphere_sampling()))
             .with_quad_sampling(self.quad_sampling.unwrap_or(base.quad_sampling()))
             .with_lobe_mixing(self.lobe_mixing.unwrap_or(base.lobe_mixing()))
-            .with_mis_model(model)
+            .with_control_variate(ControlVariate::Off)
+            .and_then(|s| s.with_mis_model(model))
             .map_err(|e| KeyError::new("c_light", e))?;
+        // The preset's control variate belongs to the light technique: without light samples,
+        // none; one named here is an error then.
+        let control_variate = match self.control_variate {
+            Some(cv) => cv,
+            None if settings.technique_samples().0 == 0 => ControlVariate::Off,
+            None => base.control_variate(),
+        };
         settings
-            .with_control_variate(self.control_variate.unwrap_or(base.control_variate()))
+            .with_control_variate(control_variate)
             .map_err(|e| KeyError::new("control_variate", format!("{e} (mis {name})")))
     }
 

@@ -13,7 +13,7 @@
 //! error by more than 5 % or their efficiency by more than 10 %.
 //!
 //! ```text
-//! cargo run --release -p picomis-sim --example defaults -- [--spp 64] [--seeds 3] [--ref-spp 4096] [FILE.json ...]
+//! cargo run --release -p picomis-sim --example defaults -- [--spp 64] [--seeds 3] [--ref-spp 4096] [--scenes a,b] [FILE.json ...]
 //! ```
 //!
 //! Run it on a quiet machine: times are wall-clock.
@@ -83,6 +83,11 @@ fn main() {
             Err(e) => eprintln!("skipped: {e}"),
         }
     }
+    // `--scenes a,b`: only those scenes.
+    if let Some(only) = args.iter().position(|a| a == "--scenes").and_then(|i| args.get(i + 1)) {
+        let only: Vec<&str> = only.split(',').collect();
+        files.retain(|(name, _)| only.contains(&name.as_str()));
+    }
     let cache = root.join("target/defaults");
     std::fs::create_dir_all(&cache).expect("cache folder");
     println!("# Defaults against every flag set ({spp} spp, {seeds} seeds, reference {ref_spp} spp)\n");
@@ -95,7 +100,15 @@ fn main() {
         let reference = reference(&cache, name, file, &scene, film, ref_spp);
         let defaults = file.default_settings();
         let mut results: BTreeMap<String, Measured> = BTreeMap::new();
-        let sets = flag_sets(file);
+        let mut sets = flag_sets(file);
+        // `--only "FLAGS;FLAGS"`: only those sets (and the defaults).
+        if let Some(only) = args.iter().position(|a| a == "--only").and_then(|i| args.get(i + 1)) {
+            let only: Vec<&str> = only.split(';').map(str::trim).collect();
+            sets.retain(|k| {
+                let f = describe(k, file);
+                f.is_empty() || only.contains(&f.as_str())
+            });
+        }
         eprintln!("{name}: {}x{}, {} flag sets", film.width(), film.height(), sets.len());
         for keys in &sets {
             let flags = describe(keys, file);
@@ -120,6 +133,11 @@ fn main() {
         let _ = defaults;
         let mut rows: Vec<&Measured> = results.values().collect();
         rows.sort_by(|a, b| b.efficiency().total_cmp(&a.efficiency()));
+        // Every set, for a closer look: target/defaults/<scene>.csv.
+        let csv: String = std::iter::once("flags,rel_mse,seconds\n".to_string())
+            .chain(rows.iter().map(|m| format!("{},{:e},{}\n", m.flags, m.rel_mse, m.seconds)))
+            .collect();
+        let _ = std::fs::write(cache.join(format!("{name}.csv")), csv);
         println!("## {name} ({}x{})\n", film.width(), film.height());
         println!("| flags | relative MSE | vs defaults | seconds | efficiency vs defaults |");
         println!("|---|---:|---:|---:|---:|");

@@ -18,7 +18,7 @@ use crate::light::sphere::SphereSampler;
 use crate::num::{INV_PI, PI, Rgb, Vec3, acos, atan2, clamp, safe_sqrt, sqrt};
 use crate::scene::Light;
 use crate::scene::Material;
-use crate::scene::{Hit, Scene};
+use crate::scene::{Hit, LightId, Scene};
 
 /// A closed form is trusted when its value is at least this fraction of the sum of the magnitudes
 /// of its terms (at most ~1e-4 relative rounding error from cancellation, typically 1e-6).
@@ -66,15 +66,18 @@ pub fn quad_projected_solid_angle(v: [Vec3; 4], n: Vec3) -> Option<f32> {
     if k < 3 {
         return Some(0.0);
     }
+    // The corners' directions (each corner once: the same values for both its edges).
+    for p in poly.iter_mut().take(k) {
+        let l = p.length_squared();
+        if !(l > 0.0) {
+            return None;
+        }
+        *p /= sqrt(l);
+    }
     let mut sum = 0.0f32;
     let mut magnitude = 0.0f32;
     for i in 0..k {
-        let (a, b) = (poly.get(i)?, poly.get((i + 1) % k)?);
-        let (la, lb) = (a.length_squared(), b.length_squared());
-        if !(la > 0.0 && lb > 0.0) {
-            return None;
-        }
-        let (a, b) = (*a / sqrt(la), *b / sqrt(lb));
+        let (a, b) = (*poly.get(i)?, *poly.get((i + 1) % k)?);
         let c = a.cross(b);
         let sin = sqrt(c.length_squared());
         if !(sin > 0.0) {
@@ -120,8 +123,28 @@ pub fn sphere_projected_solid_angle(c: Vec3, r: f32, n: Vec3) -> Option<f32> {
     (value.is_finite() && value >= 0.0 && value >= MIN_RELATIVE * magnitude).then_some(value)
 }
 
-/// The lights whose unoccluded part at `x` has a trusted closed form (bit i for light i < 64),
-/// and their reflected radiance rho / pi sum_i L_i Omega_perp_i, for a Lambertian receiver seen
+/// Which lights the control variate takes at a shading point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cover {
+    /// Every quad and sphere light (f (V - 1) sampled for those that may be blocked).
+    Every,
+    /// Only the lights nothing can block from the receiver, where the closed form is exact.
+    Unblocked,
+}
+
+/// What the control variate covers at a shading point.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Covered {
+    /// Bit i: light i's unoccluded part is in closed form (light i < 64).
+    pub lights: u64,
+    /// Bit i: light i's part is exact (nothing can block it): it needs no samples.
+    pub exact: u64,
+    /// The closed-form reflected radiance of the covered lights.
+    pub radiance: Rgb,
+}
+
+/// The lights whose unoccluded part at `x` has a trusted closed form and that `cover` takes, and
+/// their reflected radiance rho / pi sum_i L_i Omega_perp_i, for a Lambertian receiver seen
 /// from above its surface (`cos_o` > 0); nothing otherwise. Only sphere and quad lights of the
 /// kinds the scene may have ([`SphereSampler::PRESENT`], [`QuadSampler::PRESENT`]) count.
 /// (Out of line: once per shading point, and a firmware that carries it shows it by name.)
@@ -131,29 +154,37 @@ pub fn unoccluded_light<Sp: SphereSampler, Q: QuadSampler, const S: usize, const
     bsdf: &Material,
     x: &Hit,
     cos_o: f32,
-) -> (u64, Rgb) {
-    let Material::Lambertian { albedo } = *bsdf else { return (0, Rgb::ZERO) };
+    cover: Cover,
+) -> Covered {
+    let Material::Lambertian { albedo } = *bsdf else { return Covered::default() };
     if !(cos_o > 0.0) {
-        return (0, Rgb::ZERO);
+        return Covered::default();
     }
-    let (mut covered, mut sum) = (0u64, Rgb::ZERO);
+    let (mut covered, mut exact, mut sum) = (0u64, 0u64, Rgb::ZERO);
     for (i, light) in scene.lights().iter().enumerate().take(64) {
-        let Light::Area { shape, radiance } = *light else { continue };
-        if shape == x.object {
+        let Light::Area { shape: emitter, radiance } = *light else { continue };
+        if emitter == x.object {
             continue;
         }
-        let Some(shape) = scene.shape(shape) else { continue };
+        let Some(shape) = scene.shape(emitter) else { continue };
         // Only for the kinds of lights the scene may have.
         let present = if shape.as_sphere().is_some() { Sp::PRESENT } else { Q::PRESENT };
         if !present {
             continue;
         }
+        let unblocked = scene.shadow_candidates(x.object, LightId::new(i as u16)) == 0;
+        if cover == Cover::Unblocked && !unblocked {
+            continue;
+        }
         if let Some(omega) = projected_solid_angle(shape, x.point.p, x.point.n) {
             covered |= 1 << i;
+            if unblocked {
+                exact |= 1 << i;
+            }
             sum += radiance * omega;
         }
     }
-    (covered, albedo * INV_PI * sum)
+    Covered { lights: covered, exact, radiance: albedo * INV_PI * sum }
 }
 
 #[cfg(test)]

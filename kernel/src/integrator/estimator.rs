@@ -11,14 +11,14 @@
 
 use crate::error::SceneError;
 use crate::geometry::Ray;
-use crate::integrator::closed_form;
+use crate::integrator::closed_form::{self, Cover, Covered};
 use crate::integrator::control_variate::ControlVariateStrategy;
 use crate::integrator::estimate::{Estimate, TechniqueEstimate};
 use crate::integrator::mis::{Method, Technique};
 use crate::integrator::model::Model;
 use crate::integrator::settings::{RenderSettings, SettingsSource};
 use crate::integrator::strategies::Strategies;
-use crate::light::{LightSampler, LightStrategies, Select, SelectionAt, ShadingPoint};
+use crate::light::{LightSampler, LightStrategies, Residual, Select, SelectionAt, ShadingPoint};
 use crate::num::{Frame, Rgb, Vec3};
 use crate::query::accel::{POINT_TERMS, PointRays};
 use crate::sampling::Sampler;
@@ -116,6 +116,11 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
         };
         #[cfg(not(target_os = "none"))]
         let Some(at) = self.shading(x, wo) else { return none };
+        if at.all_exact {
+            let mut by_light = TechniqueEstimate::default();
+            by_light.contribution += at.unoccluded;
+            return (by_light, TechniqueEstimate::default());
+        }
         let (mut by_light, by_bsdf) = if St::Model::ONE_SAMPLE {
             self.estimate_direct_one_sample(&at, sampler)
         } else {
@@ -256,12 +261,13 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
         let light_pdf = |light, y: &Hit| {
             self.lights.pmf(&at.selection, light) * self.lights.pdf(light, &at.point, &y.point)
         };
-        if !at.control_variate {
+        if !at.every_emitter {
             let Some((y, light, radiance)) = self.scene.emitter_hit_from::<true>(from_x, wi, at.x.object)
             else {
                 return;
             };
-            if radiance == Rgb::ZERO {
+            // (A light in closed form here is then unblocked: its f (V - 1) is zero.)
+            if radiance == Rgb::ZERO || at.analytic(light) {
                 return;
             }
             let (pdf, pdf_other) = (pdf(), light_pdf(light, &y));
@@ -310,6 +316,27 @@ macro_rules! shading {
         let point = ShadingPoint { p: x.point.p, n: x.point.n, wo, bsdf: *bsdf };
         let wo = bsdf.to_local(&frame, wo);
         let seen = bsdf.seen_from(wo);
+        let control_variate = St::ControlVariate::ON && matches!(bsdf, Material::Lambertian { .. });
+        let covered = if control_variate {
+            let cover = if St::ControlVariate::UNBLOCKED { Cover::Unblocked } else { Cover::Every };
+            closed_form::unoccluded_light::<
+                <St::Lights as LightStrategies<L>>::Spheres,
+                <St::Lights as LightStrategies<L>>::Quads,
+                S,
+                L,
+                M,
+            >(it.scene, bsdf, x, wo.z, cover)
+        } else {
+            Covered::default()
+        };
+        // The unblocked control variate's lights are exact: they need no samples, and where every
+        // light is exact none is drawn. Where a covered light may be blocked (`On`), the BSDF
+        // samples look for the emitters behind the first surface (their f (V - 1)).
+        let exact = if St::ControlVariate::UNBLOCKED { covered.exact } else { 0 };
+        let residual = Residual { exact };
+        let n = it.scene.lights().len();
+        let all_exact = St::ControlVariate::UNBLOCKED && n > 0 && n <= 64 && exact == u64::MAX >> (64 - n);
+        let every_emitter = control_variate && (!St::ControlVariate::UNBLOCKED || covered.lights & !exact != 0);
         // On the microcontrollers the selection that depends on the point reads a copy of it:
         // lent to the out-of-line selection, `point` itself would be built apart and copied into
         // the struct after (some 100 instructions per shading point on the M4F). The other
@@ -318,23 +345,12 @@ macro_rules! shading {
             && <<St::Lights as LightStrategies<L>>::Selection as Select<L>>::LOCAL
         {
             let copy = point;
-            it.lights.selection_in(&copy, &frame, &seen)
+            it.lights.selection_in(&copy, &frame, &seen, residual)
         } else {
-            it.lights.selection_in(&point, &frame, &seen)
+            it.lights.selection_in(&point, &frame, &seen, residual)
         };
-        let control_variate = St::ControlVariate::ON && matches!(bsdf, Material::Lambertian { .. });
-        let (covered, unoccluded) = if control_variate {
-            closed_form::unoccluded_light::<
-                <St::Lights as LightStrategies<L>>::Spheres,
-                <St::Lights as LightStrategies<L>>::Quads,
-                S,
-                L,
-                M,
-            >(it.scene, bsdf, x, wo.z)
-        } else {
-            (0, Rgb::ZERO)
-        };
-        Shading { x, bsdf, frame, seen, point, selection, control_variate, covered, unoccluded }
+        let (covered, unoccluded) = (covered.lights, covered.radiance);
+        Shading { x, bsdf, frame, seen, point, selection, control_variate, covered, unoccluded, all_exact, every_emitter }
     }};
 }
 use shading;
@@ -358,6 +374,12 @@ pub struct Shading<'a, St: Strategies<L>, const L: usize> {
     covered: u64,
     /// The closed-form reflected radiance of those lights.
     unoccluded: Rgb,
+    /// Every light's part is exact here (the unblocked control variate covers them all): no
+    /// sample is drawn.
+    all_exact: bool,
+    /// The BSDF samples look for every emitter along their rays (the f (V - 1) of covered lights
+    /// that may be blocked).
+    every_emitter: bool,
 }
 
 impl<St: Strategies<L>, const L: usize> Shading<'_, St, L> {
@@ -371,8 +393,7 @@ impl<St: Strategies<L>, const L: usize> Shading<'_, St, L> {
         scene: &Scene<S, L, M>,
         f: impl FnOnce(&PointRays<S>) -> R,
     ) -> R {
-        let among =
-            if self.control_variate || !POINT_TERMS { u32::MAX } else { scene.reachable(self.x.object) };
+        let among = if self.every_emitter || !POINT_TERMS { u32::MAX } else { scene.reachable(self.x.object) };
         scene.with_rays_among(self.x.point.p, among, f)
     }
 

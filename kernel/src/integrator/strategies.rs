@@ -116,6 +116,7 @@ fn variates<const L: usize, Lt: LightStrategies<L>, V: Visit<L>>(s: &RenderSetti
     match s.control_variate() {
         ControlVariate::Off => models::<L, Lt, control_variate::Off, V>(s, v),
         ControlVariate::On => models::<L, Lt, control_variate::On, V>(s, v),
+        ControlVariate::Unblocked => models::<L, Lt, control_variate::Unblocked, V>(s, v),
     }
 }
 
@@ -181,6 +182,7 @@ pub mod type_paths {
         match c {
             ControlVariate::Off => "picomis::integrator::control_variate::Off",
             ControlVariate::On => "picomis::integrator::control_variate::On",
+            ControlVariate::Unblocked => "picomis::integrator::control_variate::Unblocked",
         }
     }
 
@@ -276,7 +278,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(n, 144);
+        assert_eq!(n, 216);
         // The types of scenes without sphere or quad lights.
         use crate::light::{quad::QuadSampler, sphere::SphereSampler};
         assert_eq!(ident(type_paths::NO_SPHERES), ident(core::any::type_name::<sphere::Absent>()));

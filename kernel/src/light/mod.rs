@@ -21,5 +21,5 @@ pub use lobe::LobeMixing;
 pub use quad::QuadSampling;
 pub use sample::{LightChoice, LightSample, ShadingPoint};
 pub use sampler::{LightSampler, LightStrategies, Lights, SelectionAt};
-pub use select::{LightSelection, Select};
+pub use select::{LightSelection, Residual, Select};
 pub use sphere::SphereSampling;

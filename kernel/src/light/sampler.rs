@@ -18,7 +18,7 @@ use crate::geometry::{Ray, Shape, SurfacePoint};
 use crate::light::lobe::{LOBE_SHARE, Lobe, LobeMixing, LobeSampler};
 use crate::light::quad::QuadSampler;
 use crate::light::sample::{LightChoice, LightSample, ShadingPoint};
-use crate::light::select::Select;
+use crate::light::select::{Residual, Select};
 use crate::light::sphere::SphereSampler;
 use crate::num::{Frame, Rgb, Vec2, Vec3, dot, positive_finite, sqrt};
 use crate::sampling::GRID;
@@ -80,15 +80,16 @@ impl<'a, St: LightStrategies<L>, const S: usize, const L: usize, const M: usize>
     /// Light selection at `at` (computed once per shading point; see [`Select::at`]).
     pub fn selection_at(&self, at: &ShadingPoint) -> SelectionAt<St, L> {
         let frame = Frame::from_normal(at.n);
-        self.selection_in(at, &frame, &at.bsdf.seen_from(frame.to_local(at.wo)))
+        self.selection_in(at, &frame, &at.bsdf.seen_from(frame.to_local(at.wo)), Residual::default())
     }
 
     /// [`LightSampler::selection_at`] given the receiver's frame (from its normal,
     /// [`Frame::from_normal`]) and its BSDF `seen` from `at.wo` in it, which the caller has
-    /// already computed.
+    /// already computed, and what the control variate leaves to sampling there (see
+    /// [`Select::at`]).
     #[inline]
-    pub fn selection_in(&self, at: &ShadingPoint, frame: &Frame, seen: &Outgoing) -> SelectionAt<St, L> {
-        self.selection.at(at, frame, seen)
+    pub fn selection_in(&self, at: &ShadingPoint, frame: &Frame, seen: &Outgoing, residual: Residual) -> SelectionAt<St, L> {
+        self.selection.at(at, frame, seen, residual)
     }
 
     /// Chooses a light at the shading point of `at` with the random number `u` in [0, 1) (on the

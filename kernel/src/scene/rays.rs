@@ -5,6 +5,7 @@
 use crate::geometry::{Ray, SurfacePoint};
 use crate::num::{Rgb, Vec2, Vec3, dot};
 use crate::query::accel::{self, Filter, PointRays, RaysFrom};
+use crate::query::camera_cull::object_bit;
 #[cfg(feature = "fixed")]
 use crate::scene::Object;
 use crate::scene::{Hit, Light, LightId, Scene, ShapeId};
@@ -219,9 +220,14 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
         mut f: impl FnMut(Hit, LightId, Rgb, bool),
     ) {
         let ray = from.ray(dir);
-        let nearest = self
-            .intersect_from(from, dir, 0.0, f32::INFINITY, Filter::AllBut(skip.index()))
-            .map(|h| h.object);
+        // Whether an emitter is the first surface on the ray: only the objects that may lie
+        // between the receiver and some light can be in front of one (the shadow cull), so the
+        // nearest among them answers it for every emitter, as the nearest among all would.
+        let filter = match object_bit(skip.index()) {
+            Some(bit) => Filter::Among(self.shadow_cull.reachable(skip.index()) & !bit),
+            None => Filter::AllBut(skip.index()),
+        };
+        let nearest = self.intersect_from(from, dir, 0.0, f32::INFINITY, filter).map(|h| h.object);
         for (i, o) in self.objects.iter().enumerate() {
             let Some(light) = o.light else { continue };
             if i == skip.index() {

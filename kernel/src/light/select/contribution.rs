@@ -2,7 +2,7 @@
 
 use crate::light::sample::{LightChoice, ShadingPoint};
 use crate::light::select::importance::{LightGeometry, LightTable, Receiver, weighs_bsdf};
-use crate::light::select::{LightSelection, Select, Uniform, choice};
+use crate::light::select::{LightSelection, Residual, Select, Uniform, choice};
 use crate::num::Frame;
 use crate::sampling::GridDistribution;
 use crate::scene::{LightId, Outgoing, Scene};
@@ -49,11 +49,11 @@ impl<const L: usize> Select<L> for ByContribution<L> {
     }
 
     #[inline]
-    fn at(&self, point: &ShadingPoint, frame: &Frame, seen: &Outgoing) -> GridDistribution<L> {
+    fn at(&self, point: &ShadingPoint, frame: &Frame, seen: &Outgoing, residual: Residual) -> GridDistribution<L> {
         if !self.local {
             return GridDistribution::default();
         }
-        self.weights(point, frame, seen)
+        self.weights(point, frame, seen, residual)
     }
 
     #[inline]
@@ -95,7 +95,7 @@ impl<const L: usize> ByContribution<L> {
     /// The mixture of the lights' contributions and importances at `point`. Out of line: the
     /// code around it stays small.
     #[inline(never)]
-    fn weights(&self, point: &ShadingPoint, frame: &Frame, seen: &Outgoing) -> GridDistribution<L> {
+    fn weights(&self, point: &ShadingPoint, frame: &Frame, seen: &Outgoing, residual: Residual) -> GridDistribution<L> {
         let n = self.lights.geometry().len().min(L);
         // The BSDF's part, if it has one: in the receiver's frame.
         let receiver = weighs_bsdf(&point.bsdf).then(|| Receiver::new(seen, frame));
@@ -108,6 +108,14 @@ impl<const L: usize> ByContribution<L> {
         });
         let importance = &mut importance[..n];
         let contribution = &mut contribution[..n];
+        // Lights whose part is exact here need no samples.
+        if residual.exact != 0 {
+            for (k, (i, c)) in importance.iter_mut().zip(contribution.iter_mut()).enumerate().take(64) {
+                if residual.exact & (1 << k) != 0 {
+                    (*i, *c) = (0.0, 0.0);
+                }
+            }
+        }
         if receiver.is_some() {
             // The mixture (1 - floor) c_k / sum c + floor i_k / sum i, each part where it has a sum
             // (a finite one: see `finite_sum`).
@@ -159,7 +167,7 @@ mod tests {
             let point = ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo: Vec3::Y, bsdf };
             let frame = Frame::from_normal(point.n);
             let seen = bsdf.seen_from(frame.to_local(point.wo));
-            let at = select.at(&point, &frame, &seen);
+            let at = select.at(&point, &frame, &seen, Residual::default());
             let p: [f32; 3] = core::array::from_fn(|k| select.pmf(&at, LightId::new(k as u16)));
             assert!(p.iter().all(|&p| p > 0.0), "{bsdf:?}: {p:?}");
             assert!((p.iter().sum::<f32>() - 1.0).abs() < 1e-6, "{p:?}");

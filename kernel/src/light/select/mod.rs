@@ -52,8 +52,10 @@ pub trait Select<const L: usize>: Sized + Sync + 'static {
     fn new<const S: usize, const M: usize>(scene: &Scene<S, L, M>) -> Self;
 
     /// The selection at `point`, whose frame (from its normal) is `frame` and whose BSDF is
-    /// `seen` from its `wo` (local, in `frame`).
-    fn at(&self, point: &ShadingPoint, frame: &Frame, seen: &Outgoing) -> Self::At;
+    /// `seen` from its `wo` (local, in `frame`), with what the control variate leaves to
+    /// sampling there (`residual`: a strategy that depends on the point follows it; the others
+    /// may give such lights samples that add nothing or little).
+    fn at(&self, point: &ShadingPoint, frame: &Frame, seen: &Outgoing, residual: Residual) -> Self::At;
 
     /// Chooses a light with the top 24 of the 32 random `bits` (on the 2^24 grid of
     /// [`Sampler::next_f32`](crate::sampling::Sampler::next_f32)), and returns with it the bits
@@ -65,6 +67,14 @@ pub trait Select<const L: usize>: Sized + Sync + 'static {
 
     /// The probability with which [`Select::select`] chooses `light` at `at`.
     fn pmf(&self, at: &Self::At, light: LightId) -> f32;
+}
+
+/// What the control variate leaves to sampling at a shading point (see [`Select::at`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Residual {
+    /// Bit k: light k's part is exact here (in closed form, and nothing can block it): nothing
+    /// is left to sample.
+    pub exact: u64,
 }
 
 /// The light drawn from a discrete distribution's sample, with its rescaled bits.

@@ -1,7 +1,7 @@
 //! Lights in proportion to their emitted power.
 
 use crate::light::sample::{LightChoice, ShadingPoint};
-use crate::light::select::{LightSelection, Select, Uniform, choice};
+use crate::light::select::{LightSelection, Residual, Select, Uniform, choice};
 use crate::num::Frame;
 use crate::sampling::GridDistribution;
 use crate::scene::{LightId, Outgoing, Scene};
@@ -31,7 +31,7 @@ impl<const L: usize> Select<L> for ByPower<L> {
     }
 
     #[inline(always)]
-    fn at(&self, _: &ShadingPoint, _: &Frame, _: &Outgoing) {}
+    fn at(&self, _: &ShadingPoint, _: &Frame, _: &Outgoing, _: Residual) {}
 
     #[inline]
     fn select(&self, at: &(), bits: u32) -> Option<(LightChoice, f32)> {

@@ -1,7 +1,7 @@
 //! Every light equally likely.
 
 use crate::light::sample::{LightChoice, ShadingPoint};
-use crate::light::select::{LightSelection, Select, choice};
+use crate::light::select::{LightSelection, Residual, Select, choice};
 use crate::num::Frame;
 use crate::sampling::UniformIndex;
 use crate::scene::{LightId, Outgoing, Scene};
@@ -30,7 +30,7 @@ impl<const L: usize> Select<L> for Uniform {
     }
 
     #[inline(always)]
-    fn at(&self, _: &ShadingPoint, _: &Frame, _: &Outgoing) {}
+    fn at(&self, _: &ShadingPoint, _: &Frame, _: &Outgoing, _: Residual) {}
 
     #[inline]
     fn select(&self, _: &(), bits: u32) -> Option<(LightChoice, f32)> {
