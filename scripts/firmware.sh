@@ -73,12 +73,14 @@ qemu_of() { case "$1" in $RV) echo qemu-system-riscv32 ;; *) echo qemu-system-ar
 
 # build NAME TARGET FEATURES-ARGS SCENE W H SPP SEED: builds one variant, copies its ELF to
 # $WORK/NAME.elf. FEATURES-ARGS is e.g. "", "--features rtt", "--no-default-features --features rtt".
+# With PRESET set (lecture, best): that preset's settings instead of the scene file's block (the
+# host render of check_render takes --preset too).
 build() {
   local name=$1 target=$2 feats=$3 scene=$4 w=$5 h=$6 spp=$7 seed=$8
   mkdir -p "$WORK"
   # shellcheck disable=SC2086
   if ! (cd "$FW" && CARGO_TARGET_DIR="$TD" PICOMIS_SCENE="$scene" PICOMIS_WIDTH="$w" PICOMIS_HEIGHT="$h" \
-      PICOMIS_SPP="$spp" PICOMIS_SEED="$seed" PICOMIS_OUT="$name.rgb565" \
+      PICOMIS_SPP="$spp" PICOMIS_SEED="$seed" PICOMIS_OUT="$name.rgb565" PICOMIS_PRESET="${PRESET:-}" \
       cargo build --profile firmware --quiet --target "$target" $feats) >"$WORK/$name.build.log" 2>&1; then
     cat "$WORK/$name.build.log" >&2
     return 1
@@ -150,7 +152,7 @@ check_render() {
     return
   fi
   if ! "$SIM" render "$ROOT/$scene" --width "$w" --height "$h" --spp "$spp" --seed "$seed" \
-      --arith "$arith" --out "$WORK/$name.host.rgb565" --digest >"$WORK/$name.host.log" 2>&1; then
+      --arith "$arith" ${PRESET:+--preset "$PRESET"} --out "$WORK/$name.host.rgb565" --digest >"$WORK/$name.host.log" 2>&1; then
     fail "$name: host render failed: $(tail -n 3 "$WORK/$name.host.log")"
     return
   fi
@@ -255,6 +257,25 @@ check_build() { # NAME TARGET FEATURES
   fi
 }
 
+# The strategies beyond the lecture's that the Veach scene uses with the best preset (its file
+# names none: the defaults): selection by contribution (five lights), lobe mixing (near-mirror
+# plates), the unblocked control variate (a Lambertian floor under sphere lights).
+VEACH_BEST_STRATEGIES=contribution,lobe,control-variate
+
+# check_strategies LIST NAME...: the linked firmware carries the code of exactly the strategies
+# beyond the lecture's that LIST names (scripts/symbols.sh --strategies).
+check_strategies() {
+  local want=$1 n
+  shift
+  for n in "$@"; do
+    if "$ROOT/scripts/symbols.sh" --strategies "$want" "$WORK/$n.elf" >"$WORK/$n.strategies.log" 2>&1; then
+      pass "$n: carries the code of the strategies beyond the lecture's it uses ($want), no other"
+    else
+      fail "$n: $(head -n 3 "$WORK/$n.strategies.log" | tr '\n' ' ')"
+    fi
+  done
+}
+
 # check_symbols NAME...: no f64 routine and no allocator symbol in the linked firmware.
 check_symbols() {
   local n
@@ -309,6 +330,14 @@ cmd_test() {
   check_render rv-panel $RV "" "$PANEL" 24 16 2 5
   check_build rv-board-rtt $RV "--no-default-features --features rtt"
   check_render rv-fixed-veach $RV "--features fixed" "$VEACH" 64 48 1 0
+  # The lecture's settings (PICOMIS_PRESET=lecture): the same pixels as the host's with --preset
+  # lecture, and none of the strategies beyond the lecture's in the linked firmware; Veach's own
+  # settings (the best preset's) carry exactly theirs.
+  PRESET=lecture check_render m4-veach-lecture $M4 "" "$VEACH" 160 120 1 0
+  PRESET=lecture check_render m0-veach-lecture $M0 "" "$VEACH" 64 48 1 0
+  PRESET=lecture check_render rv-veach-lecture $RV "" "$VEACH" 64 48 1 0
+  check_strategies none m4-veach-lecture m0-veach-lecture rv-veach-lecture
+  check_strategies "$VEACH_BEST_STRATEGIES" m4-veach m0-veach rv-veach
   check_symbols m4-veach m4-board-rtt m0-veach m0-board-rtt rv-veach rv-board-rtt m0-fixed-veach rv-fixed-veach
   say "firmware tests took $((SECONDS - start)) s"
   say "firmware: $PASSED passed, $FAILED failed"
@@ -361,11 +390,15 @@ cmd_measure() {
   step "measure: builds (profile firmware: lto fat, codegen-units 1)"
   for c in "${CORES[@]}"; do
     read -r core pre target film goal <<<"$c"
-    build "$pre-size" "$target" "" "$VEACH" "${film%x*}" "${film#*x}" 1 0 || die "build failed"
-    build "$pre-size-board" "$target" "--no-default-features --features rtt" "$VEACH" "${film%x*}" "${film#*x}" 1 0 ||
+    PRESET=lecture build "$pre-size" "$target" "" "$VEACH" "${film%x*}" "${film#*x}" 1 0 || die "build failed"
+    PRESET=lecture build "$pre-size-board" "$target" "--no-default-features --features rtt" "$VEACH" "${film%x*}" "${film#*x}" 1 0 ||
       die "build failed"
+    # The best preset (the defaults): its board build and its instruction count.
+    PRESET=best build "$pre-best-size-board" "$target" "--no-default-features --features rtt" "$VEACH" "${film%x*}" "${film#*x}" 1 0 ||
+      die "build failed"
+    PRESET=best build "$pre-best-measure" "$target" "--features measure" "$VEACH" 64 48 1 0 || die "build failed"
     # Instruction counts: the Veach scene at 64x48, 1 spp, on every core (the same work).
-    build "$pre-measure" "$target" "--features measure" "$VEACH" 64 48 1 0 || die "build failed"
+    PRESET=lecture build "$pre-measure" "$target" "--features measure" "$VEACH" 64 48 1 0 || die "build failed"
   done
   # The fixed-point ray queries (feature fixed) on the cores without an FPU.
   for c in "${FIXED_CORES[@]}"; do
@@ -395,7 +428,7 @@ cmd_measure() {
     stack_peaks "$target" "$pre-fixed-size" "$pre-fixed-measure"
   done
 
-  step "measure: instructions per camera sample (Veach, 1 light + 1 BSDF sample, power heuristic)"
+  step "measure: instructions per camera sample (Veach, 1 light + 1 BSDF sample, power heuristic, the lecture's strategies)"
   for c in "${CORES[@]}"; do
     read -r core pre target film goal <<<"$c"
     say "-- $pre-measure ($core)"
@@ -426,6 +459,17 @@ cmd_measure() {
     summarize "$core fixed" "$goal" "$pre-fixed" "$WORK/$pre-fixed-size.elf" "qemu build"
     [ -n "$per" ] || die "$core fixed: no instructions per camera sample"
     printf '%s_fixed_instructions_per_camera_sample %s\n' "$(tr '[:upper:]' '[:lower:]' <<<"$core")" "$per" >>"$figures"
+  done
+  # The best preset (the defaults): instructions per camera sample and the board build's flash.
+  for c in "${CORES[@]}"; do
+    read -r core pre target film goal <<<"$c"
+    run_qemu "$pre-best-measure" "$target" || die "$pre-best-measure: QEMU exit status $? (log $WORK/$pre-best-measure.log)"
+    per=$(sed -n 's/^measure: camera_sample: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-best-measure.log")
+    [ -n "$per" ] || die "$core best: no instructions per camera sample"
+    read -r v t r d b u < <(sections "$WORK/$pre-best-size-board.elf")
+    say "$core, best preset: $per instructions per camera sample; board build: text $t, rodata $r"
+    printf '%s_best_instructions_per_camera_sample %s\n%s_best_flash_text_bytes %s\n' \
+      "$(tr '[:upper:]' '[:lower:]' <<<"$core")" "$per" "$(tr '[:upper:]' '[:lower:]' <<<"$core")" "$t" >>"$figures"
   done
   if [ "${1:-}" = check ]; then
     step "budget: figures against firmware/budget.json"

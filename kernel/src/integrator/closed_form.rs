@@ -132,6 +132,14 @@ pub enum Cover {
     Unblocked,
 }
 
+impl Cover {
+    /// The lights [`crate::integrator::control_variate::Auto`] covers in `scene`: every one in a
+    /// scene of area lights only, else the unblocked ones.
+    pub fn auto<const S: usize, const L: usize, const M: usize>(scene: &Scene<S, L, M>) -> Self {
+        if scene.lights().iter().all(|l| matches!(l, Light::Area { .. })) { Cover::Every } else { Cover::Unblocked }
+    }
+}
+
 /// What the control variate covers at a shading point.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Covered {

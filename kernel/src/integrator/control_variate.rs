@@ -1,9 +1,10 @@
 //! The analytic control variate: integral f V = integral f (in closed form, `closed_form.rs`)
 //! plus integral f (V - 1) (sampled with MIS), for the unoccluded light reaching a Lambertian
-//! receiver, for every quad and sphere light ([`On`]); or only for the lights that nothing can
-//! block from the receiver ([`Unblocked`]): there V = 1, so f (V - 1) = 0 and the closed form is
-//! the exact answer, which needs no samples (they go to the other lights). As a type: the
-//! estimator branches on its constants.
+//! receiver, for every quad and sphere light ([`On`]); or by a rule measured to pay ([`Auto`]):
+//! every light in a scene of area lights only, and only the lights that nothing can block where
+//! a scene has point lights; either way, where nothing can block a light, V = 1, so f (V - 1) = 0
+//! and the closed form is exact: that light needs no samples (they go to the other lights). As a
+//! type: the estimator branches on its constants.
 
 crate::choices! {
     /// Whether the unoccluded light reaching a Lambertian receiver is computed in closed form,
@@ -13,9 +14,9 @@ crate::choices! {
         Off = "off", "every light by sampling alone";
         /// Integral f V = integral f (closed form) + integral f (V - 1) (sampled with MIS) ([`On`]).
         On = "on", "unoccluded light of quad and sphere lights on Lambertian surfaces in closed form, Monte Carlo for the shadows only";
-        /// Only for the lights nothing can block from a Lambertian receiver, where it is exact and
-        /// needs no samples ([`Unblocked`]).
-        Unblocked = "unblocked", "on Lambertian surfaces, the light of quad and sphere lights that nothing can block in closed form (exact: no samples), the others by sampling";
+        /// By the rule of [`Auto`]: every light in a scene of area lights only, the lights nothing
+        /// can block where it has point lights; exact lights take no samples.
+        Auto = "auto", "as on in a scene of area lights only, else for the lights nothing can block; no samples where the closed form is exact";
     }
 }
 
@@ -25,8 +26,8 @@ pub trait ControlVariateStrategy: 'static {
     const KIND: ControlVariate;
     /// Whether the unoccluded light is in closed form.
     const ON: bool;
-    /// Whether only the lights nothing can block are in closed form ([`Unblocked`]).
-    const UNBLOCKED: bool = false;
+    /// Whether the rule of [`Auto`] decides which lights are in closed form.
+    const AUTO: bool = false;
 }
 
 /// No control variate.
@@ -47,15 +48,18 @@ impl ControlVariateStrategy for On {
     const ON: bool = true;
 }
 
-/// The closed form only for the lights that nothing can block from a Lambertian receiver (the
-/// shadow cull says no object lies between them): there f (V - 1) = 0, so the closed form is
-/// exact; selection by contribution gives those lights no samples, and where every light is in
-/// closed form no sample is drawn. Never more variance than without it.
+/// The control variate by a rule (measured: docs/defaults.md): in a scene of area lights only,
+/// every light is in closed form, as with [`On`]; in a scene with point lights, only the lights
+/// nothing can block from the receiver (there the samples the other lights of [`On`] would give
+/// the covered lights, whose f (V - 1) is mostly zero, would be missed by the point lights, which
+/// have no closed form). Where nothing can block a light (the shadow cull says no object lies
+/// between it and the receiver), f (V - 1) = 0: its closed form is exact, selection by
+/// contribution gives it no samples, and where every light is exact no sample is drawn.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Unblocked;
+pub struct Auto;
 
-impl ControlVariateStrategy for Unblocked {
-    const KIND: ControlVariate = ControlVariate::Unblocked;
+impl ControlVariateStrategy for Auto {
+    const KIND: ControlVariate = ControlVariate::Auto;
     const ON: bool = true;
-    const UNBLOCKED: bool = true;
+    const AUTO: bool = true;
 }

@@ -31,6 +31,8 @@ pub struct Integrator<'a, St: Strategies<L>, const S: usize, const L: usize, con
     /// the code (the loops over sample counts, the sample stream), which a copy would hide.
     settings: &'a RenderSettings,
     lights: LightSampler<'a, St::Lights, S, L, M>,
+    /// The lights the `auto` control variate covers in this scene.
+    auto_cover: Cover,
 }
 
 /// The light sampler of the strategies `St`.
@@ -42,7 +44,7 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
     /// ([`SceneError::StrategyMismatch`] otherwise). Light selection's tables are built here.
     pub fn new(scene: &'a Scene<S, L, M>, settings: &'a RenderSettings) -> Result<Self, SceneError> {
         St::check(settings)?;
-        Ok(Self { scene, settings, lights: LightSampler::new(scene) })
+        Ok(Self { scene, settings, lights: LightSampler::new(scene), auto_cover: Cover::auto(scene) })
     }
 
     /// The scene.
@@ -318,7 +320,7 @@ macro_rules! shading {
         let seen = bsdf.seen_from(wo);
         let control_variate = St::ControlVariate::ON && matches!(bsdf, Material::Lambertian { .. });
         let covered = if control_variate {
-            let cover = if St::ControlVariate::UNBLOCKED { Cover::Unblocked } else { Cover::Every };
+            let cover = if St::ControlVariate::AUTO { it.auto_cover } else { Cover::Every };
             closed_form::unoccluded_light::<
                 <St::Lights as LightStrategies<L>>::Spheres,
                 <St::Lights as LightStrategies<L>>::Quads,
@@ -329,14 +331,14 @@ macro_rules! shading {
         } else {
             Covered::default()
         };
-        // The unblocked control variate's lights are exact: they need no samples, and where every
-        // light is exact none is drawn. Where a covered light may be blocked (`On`), the BSDF
+        // The `auto` control variate's unblocked lights are exact: they need no samples, and where
+        // every light is exact none is drawn. Where a covered light may be blocked, the BSDF
         // samples look for the emitters behind the first surface (their f (V - 1)).
-        let exact = if St::ControlVariate::UNBLOCKED { covered.exact } else { 0 };
+        let exact = if St::ControlVariate::AUTO { covered.exact } else { 0 };
         let residual = Residual { exact };
         let n = it.scene.lights().len();
-        let all_exact = St::ControlVariate::UNBLOCKED && n > 0 && n <= 64 && exact == u64::MAX >> (64 - n);
-        let every_emitter = control_variate && (!St::ControlVariate::UNBLOCKED || covered.lights & !exact != 0);
+        let all_exact = St::ControlVariate::AUTO && n > 0 && n <= 64 && exact == u64::MAX >> (64 - n);
+        let every_emitter = control_variate && (!St::ControlVariate::AUTO || covered.lights & !exact != 0);
         // On the microcontrollers the selection that depends on the point reads a copy of it:
         // lent to the out-of-line selection, `point` itself would be built apart and copied into
         // the struct after (some 100 instructions per shading point on the M4F). The other
@@ -374,8 +376,8 @@ pub struct Shading<'a, St: Strategies<L>, const L: usize> {
     covered: u64,
     /// The closed-form reflected radiance of those lights.
     unoccluded: Rgb,
-    /// Every light's part is exact here (the unblocked control variate covers them all): no
-    /// sample is drawn.
+    /// Every light's part is exact here (the `auto` control variate covers them all and nothing
+    /// can block them): no sample is drawn.
     all_exact: bool,
     /// The BSDF samples look for every emitter along their rays (the f (V - 1) of covered lights
     /// that may be blocked).

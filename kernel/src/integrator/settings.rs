@@ -32,8 +32,8 @@ crate::choices! {
     /// command line's flags change any of them.
     pub enum Preset: "preset" {
         /// The settings that measure best: what every render gets unless told otherwise (lights
-        /// by contribution, lobe mixing, the control variate where nothing can block a light).
-        Best = "best", "the settings that measure best (the default): lights by contribution, lobe mixing, the closed form where nothing blocks a light";
+        /// by contribution, lobe mixing, the control variate by its rule, `auto`).
+        Best = "best", "the settings that measure best (the default): lights by contribution, lobe mixing, the control variate by its rule";
         /// The lecture's estimator: every light equally likely, quad lights by area, light
         /// samples from the light alone, no control variate.
         Lecture = "lecture", "the lecture's estimator: lights equally likely, quads by area, no lobe mixing, no control variate";
@@ -62,14 +62,13 @@ impl Preset {
             Preset::Lecture => lecture,
             // Measured on every built-in scene and on the test scenes of `tests/scenes/`
             // (`host-sim/examples/defaults.rs`, docs/defaults.md): lights by contribution, light
-            // samples also from near-mirror lobes, and the closed form where nothing can block a
-            // light. Each applies only where it can help (several lights; a GGX lobe narrower than
-            // a light; a Lambertian receiver no object can shade), and leaves the image unchanged
-            // elsewhere.
+            // samples also from near-mirror lobes, and the control variate by its rule. Each
+            // applies only where it can help (several lights; a GGX lobe narrower than a light; a
+            // Lambertian receiver of area lights) and leaves the image unchanged elsewhere.
             Preset::Best => RenderSettings {
                 selection: LightSelection::Contribution,
                 lobe: LobeMixing::On,
-                control_variate: ControlVariate::Unblocked,
+                control_variate: ControlVariate::Auto,
                 ..lecture
             },
         }
@@ -164,7 +163,7 @@ impl RenderSettings {
 
     /// These settings, if the control variate (when on) has the light technique it belongs to.
     const fn checked(self) -> Result<Self, SceneError> {
-        if let ControlVariate::On | ControlVariate::Unblocked = self.control_variate {
+        if let ControlVariate::On | ControlVariate::Auto = self.control_variate {
             if self.technique_samples().0 == 0 {
                 return Err(SceneError::ControlVariateWithoutLight);
             }

@@ -116,7 +116,7 @@ fn variates<const L: usize, Lt: LightStrategies<L>, V: Visit<L>>(s: &RenderSetti
     match s.control_variate() {
         ControlVariate::Off => models::<L, Lt, control_variate::Off, V>(s, v),
         ControlVariate::On => models::<L, Lt, control_variate::On, V>(s, v),
-        ControlVariate::Unblocked => models::<L, Lt, control_variate::Unblocked, V>(s, v),
+        ControlVariate::Auto => models::<L, Lt, control_variate::Auto, V>(s, v),
     }
 }
 
@@ -182,7 +182,7 @@ pub mod type_paths {
         match c {
             ControlVariate::Off => "picomis::integrator::control_variate::Off",
             ControlVariate::On => "picomis::integrator::control_variate::On",
-            ControlVariate::Unblocked => "picomis::integrator::control_variate::Unblocked",
+            ControlVariate::Auto => "picomis::integrator::control_variate::Auto",
         }
     }
 
