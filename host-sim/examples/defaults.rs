@@ -7,7 +7,8 @@
 //! image of that scene (a strategy for lights or receivers the scene does not have changes no
 //! bit, and is left at the defaults' value), `--spp` samples per pixel, `--seeds` seeds each. The
 //! error is the study's: the relative MSE of the reflected light against a converged reference
-//! (cached under `target/defaults/`); time is the fastest seed's wall-clock time on all cores;
+//! (cached under `target/defaults/`); time is the fastest seed's wall-clock time on all cores (seeds
+//! are rounds over every set, so the machine's slow moments fall on every set alike);
 //! efficiency is 1 / (relative MSE x time). Each scene's table lists the defaults and every set
 //! whose error or efficiency beats them, and the verdict: whether a set beats the defaults'
 //! error by more than 5 % or their efficiency by more than 10 %.
@@ -24,8 +25,8 @@ use std::time::Instant;
 
 use indicatif::ProgressBar;
 use picomis::{
-    ControlVariate, Film, Heuristic, LightSelection, LobeMixing, Method, MisModel, Preset, QuadSampling, Rgb,
-    SphereSampling,
+    ControlVariate, Film, Heuristic, LightSelection, LobeMixing, Method, MisModel, Preset, QuadSampling,
+    RenderSettings, Rgb, SphereSampling,
 };
 use picomis_format::{IntegratorDesc, SceneFile};
 use picomis_host::HostScene;
@@ -98,7 +99,6 @@ fn main() {
         let film = study_film(file.film(), None).expect("study film");
         let scene: HostScene = file.build_with_film(film).expect("scene");
         let reference = reference(&cache, name, file, &scene, film, ref_spp);
-        let defaults = file.default_settings();
         let mut results: BTreeMap<String, Measured> = BTreeMap::new();
         let mut sets = flag_sets(file);
         // `--only "FLAGS;FLAGS"`: only those sets (and the defaults).
@@ -110,27 +110,40 @@ fn main() {
             });
         }
         eprintln!("{name}: {}x{}, {} flag sets", film.width(), film.height(), sets.len());
-        for keys in &sets {
-            let flags = describe(keys, file);
-            let Ok(base) = keys.over(file.integrator()).settings(spp, 0) else { continue };
-            let (mut rel, mut best_time) = (0.0, f64::INFINITY);
-            for s in 0..seeds {
+        // Seeds outermost, sets inside: every set is timed once per round, so a slow moment of
+        // the machine falls on every set alike rather than on one.
+        let runs: Vec<(String, RenderSettings)> = sets
+            .iter()
+            .filter_map(|keys| {
+                Some((describe(keys, file), keys.over(file.integrator()).settings(spp, 0).ok()?))
+            })
+            .collect();
+        let mut sums: Vec<Option<(f64, f64)>> = vec![Some((0.0, f64::INFINITY)); runs.len()];
+        for s in 0..seeds {
+            for ((_, base), sum) in runs.iter().zip(&mut sums) {
+                let Some((rel, best_time)) = sum else { continue };
                 let settings = base.with_seed(1 + s);
                 let start = Instant::now();
-                let Ok(img) = render_estimates(&scene, &settings, &ProgressBar::hidden()) else { break };
-                best_time = best_time.min(start.elapsed().as_secs_f64());
+                let Ok(img) = render_estimates(&scene, &settings, &ProgressBar::hidden()) else {
+                    *sum = None;
+                    continue;
+                };
+                *best_time = best_time.min(start.elapsed().as_secs_f64());
                 let image: Vec<Rgb> =
                     img.pixels.iter().map(|e| e.light.contribution + e.bsdf.contribution).collect();
-                rel += metrics::error(&image, &reference).rel_mse / f64::from(seeds);
+                *rel += metrics::error(&image, &reference).rel_mse / f64::from(seeds);
             }
-            results.insert(flags.clone(), Measured { flags, rel_mse: rel, seconds: best_time });
+        }
+        for ((flags, _), sum) in runs.into_iter().zip(sums) {
+            if let Some((rel_mse, seconds)) = sum {
+                results.insert(flags.clone(), Measured { flags, rel_mse, seconds });
+            }
         }
         let def_flags = describe(&IntegratorDesc::default(), file);
         let Some(def) = results.get(&def_flags).cloned() else {
             eprintln!("{name}: the defaults did not render");
             continue;
         };
-        let _ = defaults;
         let mut rows: Vec<&Measured> = results.values().collect();
         rows.sort_by(|a, b| b.efficiency().total_cmp(&a.efficiency()));
         // Every set, for a closer look: target/defaults/<scene>.csv.

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use picomis::{Film, Preset, RenderSettings};
-use picomis_format::{IntegratorDesc, KeyError};
+use picomis_format::IntegratorDesc;
 
 use clap::{Parser, Subcommand};
 
@@ -158,33 +158,9 @@ fn extras_note(s: &RenderSettings) -> String {
     IntegratorDesc::differences(s, Preset::Best).iter().map(|(k, v)| format!(", {k} {v}")).collect()
 }
 
-/// `e` in words, naming where its key was set: the flag, or the scene file's integrator block.
-pub fn key_error(loaded: &Loaded, flags: &IntegratorDesc, e: &KeyError) -> SimError {
-    let set_by_flag = serde_json::to_value(flags).ok().is_some_and(|v| v.get(e.key).is_some());
-    if set_by_flag || flags.preset.is_some() {
-        SimError::Usage(format!("{}: {}", e.flag(), e.reason))
-    } else {
-        SimError::Usage(format!("{}: integrator.{}: {}", loaded.file.file(), e.key, e.reason))
-    }
-}
-
-/// The integrator of a command: its flags over the scene file's integrator block (over the
-/// best preset, unless `preset` names another for files that name none).
-pub fn integrator(
-    loaded: &Loaded,
-    flags: &IntegratorDesc,
-    preset: Option<Preset>,
-    spp: u32,
-    seed: u32,
-) -> Result<RenderSettings, SimError> {
-    let file = loaded.file.integrator();
-    let file = IntegratorDesc { preset: file.preset.or(preset), ..file.clone() };
-    flags.over(&file).settings(spp, seed).map_err(|e| key_error(loaded, flags, &e))
-}
-
 /// The render settings from the scene's integrator block overridden by the flags.
 pub fn settings(loaded: &Loaded, args: &RenderArgs) -> Result<RenderSettings, SimError> {
-    integrator(loaded, &args.integrator, None, args.spp, args.seed)
+    crate::integrator::integrator(loaded, &args.integrator, None, args.spp, args.seed)
 }
 
 /// The film from the scene and `--width` / `--height`.

@@ -3,9 +3,7 @@
 //! MIS weights (false colour with a legend) and weighted contributions.
 
 use embedded_graphics_core::pixelcolor::RgbColor;
-use picomis::{
-    ControlVariate, Estimate, Heuristic, Method, Preset, RenderSettings, Rgb, TechniqueEstimate, tone_map,
-};
+use picomis::{Estimate, Heuristic, Method, Preset, RenderSettings, Rgb, TechniqueEstimate, tone_map};
 use picomis_format::IntegratorDesc;
 
 use crate::SimError;
@@ -109,19 +107,19 @@ pub fn figure_settings(
             )));
         }
     }
-    let base = crate::cli::integrator(loaded, flags, Some(Preset::Lecture), spp, seed)?;
-    let (n_light, n_bsdf) = base.sample_counts();
-    let base = base
-        .with_method(WEIGHTS_OF)
-        .and_then(|b| b.with_sample_counts(n_light.max(1), n_bsdf.max(1)))
-        .map_err(|e| SimError::Usage(format!("settings: {e}")))?;
+    let keys = crate::integrator::keys(loaded, flags, Some(Preset::Lecture));
+    let (n_light, n_bsdf) =
+        crate::integrator::integrator(loaded, flags, Some(Preset::Lecture), spp, seed)?.sample_counts();
+    // Every panel draws from both techniques: its weights are the ones of the figure's methods.
+    let keys =
+        IntegratorDesc { light_samples: Some(n_light.max(1)), bsdf_samples: Some(n_bsdf.max(1)), ..keys };
     methods()?
         .into_iter()
         .map(|method| {
-            base.with_method(method)
-                .or_else(|_| {
-                    base.with_control_variate(ControlVariate::Off).and_then(|b| b.with_method(method))
-                })
+            let keys = crate::integrator::with_method(&keys, method);
+            // A control variate named for the figure is for the panels with light samples.
+            keys.settings(spp, seed)
+                .or_else(|_| IntegratorDesc { control_variate: None, ..keys }.settings(spp, seed))
                 .map_err(|e| SimError::Usage(format!("settings: {e}")))
         })
         .collect()

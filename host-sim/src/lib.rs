@@ -26,6 +26,7 @@
 
 pub mod cli;
 pub mod figure;
+pub mod integrator;
 pub mod interop;
 pub mod output;
 pub mod render;

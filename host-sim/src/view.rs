@@ -149,10 +149,12 @@ pub struct ViewState {
     pub beta: f32,
     /// Cutoff-heuristic threshold.
     pub alpha: f32,
-    /// The rest of the settings (1 spp): the scene's integrator with the flags, then the keys'
-    /// light selection, sphere sampling and lobe mixing. Its method is replaced by the one of
+    /// The rest of the integrator: the flags over the scene file's block, then the keys' light
+    /// selection, sphere sampling and lobe mixing. Its method is replaced by the one of
     /// [`Self::method`], [`Self::beta`] and [`Self::alpha`] in each pass's settings.
-    pub base: RenderSettings,
+    pub keys: IntegratorDesc,
+    /// The seed.
+    pub seed: u32,
 }
 
 /// The method `Method::ALL[index]` with `beta` and `alpha` (the one place the view turns its
@@ -169,17 +171,17 @@ pub fn method_name_at(index: usize) -> &'static str {
 
 impl ViewState {
     /// The starting state from the scene and the flags: the integrator that `picomis-sim render`
-    /// would use ([`crate::cli::integrator`]), at 1 spp.
+    /// would use ([`crate::integrator::integrator`]), at 1 spp.
     pub fn new(loaded: &Loaded, args: &ViewArgs) -> Result<Self, SimError> {
-        let base = crate::cli::integrator(loaded, &args.integrator, None, 1, args.seed)?;
-        let start = base.method();
+        let start = crate::integrator::integrator(loaded, &args.integrator, None, 1, args.seed)?.method();
         let method = Method::ALL.iter().position(|m| m.name() == start.name()).unwrap_or(0);
         let state = ViewState {
             method,
             view: View::Image,
             beta: start.beta().unwrap_or(Heuristic::DEFAULT_BETA),
             alpha: start.alpha().unwrap_or(Heuristic::DEFAULT_ALPHA),
-            base,
+            keys: crate::integrator::keys(loaded, &args.integrator, None),
+            seed: args.seed,
         };
         state.settings(1).map_err(|e| SimError::Usage(format!("{}: {e}", loaded.file.name())))?;
         Ok(state)
@@ -188,7 +190,7 @@ impl ViewState {
     /// The render settings of a pass with `spp` samples per pixel.
     pub fn settings(&self, spp: u32) -> Result<RenderSettings, String> {
         let method = method_at(self.method, self.beta, self.alpha)?;
-        self.base.with_method(method).and_then(|s| s.with_spp(spp)).map_err(|e| e.to_string())
+        crate::integrator::with_method(&self.keys, method).settings(spp, self.seed).map_err(|e| e.to_string())
     }
 
     /// The method with its parameter, for the status line.
@@ -202,8 +204,9 @@ impl ViewState {
 
     /// Light selection, sphere sampling and lobe mixing, for the status line.
     pub fn sampling_label(&self) -> String {
-        let lobe = if self.base.lobe_mixing() == LobeMixing::On { ", lobe" } else { "" };
-        format!("{}, {}{lobe}", self.base.light_selection().name(), self.base.sphere_sampling().name())
+        let Ok(s) = self.settings(1) else { return String::new() };
+        let lobe = if s.lobe_mixing() == LobeMixing::On { ", lobe" } else { "" };
+        format!("{}, {}{lobe}", s.light_selection().name(), s.sphere_sampling().name())
     }
 
     /// Applies a key; true if the image must be rendered again. Methods the scene cannot use
@@ -242,21 +245,20 @@ impl ViewState {
                 self.alpha = ((self.alpha + 0.05 * d as f32) * 100.0).round().clamp(0.0, 100.0) / 100.0;
                 self.alpha != old && method_name_at(self.method) == "cutoff"
             }
-            Action::LightSelection => {
-                let selection = next(&LightSelection::ALL, self.base.light_selection());
-                self.base = self.base.with_light_selection(selection);
+            // (The pass's settings are valid: the method keys skip invalid ones, and these
+            // strategies fit every method.)
+            Action::LightSelection => self.settings(1).is_ok_and(|s| {
+                self.keys.light_selection = Some(next(&LightSelection::ALL, s.light_selection()));
                 true
-            }
-            Action::SphereSampling => {
-                let spheres = next(&SphereSampling::ALL, self.base.sphere_sampling());
-                self.base = self.base.with_sphere_sampling(spheres);
+            }),
+            Action::SphereSampling => self.settings(1).is_ok_and(|s| {
+                self.keys.sphere_sampling = Some(next(&SphereSampling::ALL, s.sphere_sampling()));
                 true
-            }
-            Action::LobeMixing => {
-                let lobe = next(&LobeMixing::ALL, self.base.lobe_mixing());
-                self.base = self.base.with_lobe_mixing(lobe);
+            }),
+            Action::LobeMixing => self.settings(1).is_ok_and(|s| {
+                self.keys.lobe_mixing = Some(next(&LobeMixing::ALL, s.lobe_mixing()));
                 true
-            }
+            }),
             Action::Save | Action::Quit => false,
         }
     }
@@ -325,32 +327,31 @@ mod tests {
         state_with(&[])
     }
 
+    /// `picomis-sim view FLAGS`' arguments.
+    fn args(flags: &[&str]) -> ViewArgs {
+        #[derive(clap::Parser)]
+        struct View {
+            #[command(flatten)]
+            args: ViewArgs,
+        }
+        <View as clap::Parser>::parse_from([&["view"][..], flags].concat()).args
+    }
+
     /// The starting state of `picomis-sim view FLAGS` on the Veach scene.
     fn state_with(flags: &[&str]) -> ViewState {
         let loaded = crate::scenes::load(Some("veach_mis")).unwrap();
-        let args =
-            <crate::cli::Cli as clap::Parser>::parse_from([&["picomis-sim", "view"][..], flags].concat());
-        let crate::cli::Command::View(args) = args.command else { panic!("not view") };
-        ViewState::new(&loaded, &args).unwrap()
+        ViewState::new(&loaded, &args(flags)).unwrap()
     }
 
     #[test]
-    fn the_integrator_flags_start_the_view_where_render_starts() {
+    fn the_integrator_flags_start_the_view_where_they_say() {
         let flags = ["--mis", "cutoff", "--alpha", "0.2", "--light-selection", "power", "--seed", "5"];
         let s = state_with(&flags);
         assert_eq!((method_name_at(s.method), s.alpha), ("cutoff", 0.2));
-        assert_eq!(s.sampling_label(), "power, cone");
-        // A pass of N spp has the settings of `picomis-sim render --spp N` with the same flags.
-        let loaded = crate::scenes::load(Some("veach_mis")).unwrap();
-        let cli = <crate::cli::Cli as clap::Parser>::parse_from(
-            [&["picomis-sim", "render", "--spp", "8"][..], &flags].concat(),
-        );
-        let crate::cli::Command::Render(args) = cli.command else { panic!("not render") };
-        assert_eq!(s.settings(8).ok(), crate::cli::settings(&loaded, &args).ok());
+        assert_eq!(s.sampling_label(), "power, cone, lobe");
         // Flags the kernel refuses are usage errors, as for render.
-        let cli = <crate::cli::Cli as clap::Parser>::parse_from(["picomis-sim", "view", "--c-light", "0.5"]);
-        let crate::cli::Command::View(args) = cli.command else { panic!("not view") };
-        assert!(matches!(ViewState::new(&loaded, &args), Err(SimError::Usage(_))));
+        let loaded = crate::scenes::load(Some("veach_mis")).unwrap();
+        assert!(matches!(ViewState::new(&loaded, &args(&["--c-light", "0.5"])), Err(SimError::Usage(_))));
     }
 
     #[test]
@@ -388,9 +389,9 @@ mod tests {
         assert_eq!(views.len(), View::ALL.len());
         assert!(s.apply(Action::LightSelection) && s.apply(Action::SphereSampling));
         assert!(
-            s.apply(Action::LobeMixing) && s.base.lobe_mixing() == LobeMixing::On && s.settings(1).is_ok()
+            s.apply(Action::LobeMixing) && s.settings(1).is_ok_and(|s| s.lobe_mixing() == LobeMixing::Off)
         );
-        assert_eq!(s.sampling_label(), "power, area, lobe");
+        assert_eq!(s.sampling_label(), "uniform, area");
         assert!(!s.apply(Action::Save));
     }
 

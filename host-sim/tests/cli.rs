@@ -391,3 +391,37 @@ fn figure_is_a_labelled_png() {
     // Four columns of panels (64x48 scaled by 5 to 320x240) and three rows.
     assert_eq!((info.width, info.height), (4 * 320 + 5 * 14, 96 + 3 * (28 + 240 + 14) + 10));
 }
+
+/// A pass of N spp in `picomis-sim view FLAGS` has the settings of
+/// `picomis-sim render --spp N FLAGS`.
+#[test]
+fn a_view_pass_renders_what_render_renders() {
+    use clap::Parser;
+    use picomis_sim::cli::{Cli, Command, settings};
+    use picomis_sim::view::ViewState;
+
+    let flags = ["--mis", "cutoff", "--alpha", "0.2", "--light-selection", "power", "--seed", "5"];
+    let loaded = picomis_sim::scenes::load(Some("veach_mis")).unwrap();
+    let Command::View(view) = Cli::parse_from([&["picomis-sim", "view"][..], &flags].concat()).command else {
+        panic!("not view")
+    };
+    let Command::Render(render) =
+        Cli::parse_from([&["picomis-sim", "render", "--spp", "8"][..], &flags].concat()).command
+    else {
+        panic!("not render")
+    };
+    let state = ViewState::new(&loaded, &view).unwrap();
+    let (from_view, from_render) = (state.settings(8).unwrap(), settings(&loaded, &render).unwrap());
+    assert_eq!(from_view, from_render);
+    // And the flags did reach them: not the defaults.
+    assert_ne!(
+        from_render,
+        settings(&loaded, &{
+            let Command::Render(r) = Cli::parse_from(["picomis-sim", "render", "--spp", "8"]).command else {
+                panic!("not render")
+            };
+            r
+        })
+        .unwrap()
+    );
+}

@@ -73,7 +73,7 @@ impl<'a> Context<'a> {
         let (w, h) = (film.width(), film.height());
         let samples = job.loaded.file.default_settings().sample_counts();
         // The scene's own integrator (and the flags' errors before anything is rendered).
-        let defaults = crate::cli::integrator(job.loaded, &job.args.integrator, None, 1, 0)?;
+        let defaults = crate::integrator::integrator(job.loaded, &job.args.integrator, None, 1, 0)?;
         let ref_spp = job.args.reference_spp();
         let reference = reference::get(scene, job.loaded, job.cache, ref_spp, samples, "")?;
         eprintln!(
@@ -172,7 +172,7 @@ impl<'a> Context<'a> {
     /// sample counts, or for the defaults the scene's own integrator with the flags.
     fn settings(&self, mi: usize, spp: u32, seed: u32) -> Result<RenderSettings, SimError> {
         if mi == defaults_index() {
-            crate::cli::integrator(self.job.loaded, &self.job.args.integrator, None, spp, seed)
+            crate::integrator::integrator(self.job.loaded, &self.job.args.integrator, None, spp, seed)
         } else {
             settings(&self.methods[mi], self.samples, spp, seed)
         }

@@ -1,7 +1,7 @@
 //! The methods of the study: the host's list ([`study_methods`], the one the benchmarks time),
 //! then "defaults", the scene's own integrator: the best preset under the scene file's
 //! integrator block under the command line's integrator flags, as `picomis-sim render` renders
-//! the scene ([`crate::cli::integrator`]).
+//! the scene ([`crate::integrator::integrator`]).
 
 use picomis::{Arith, Preset, RenderSettings};
 use picomis_host::study::{Extras, StudyMethod, study_methods};

@@ -346,7 +346,9 @@ mod tests {
             2,
             3,
         )
-        .unwrap();
+        .unwrap()
+        // (Selection by contribution would choose by the lights' strengths: other choices.)
+        .with_light_selection(picomis::LightSelection::Uniform);
         let film = scene.film();
         let px = |s: &HostScene| -> Vec<Rgb> {
             let r = picomis_host::renderer(s, &settings).unwrap();

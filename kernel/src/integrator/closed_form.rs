@@ -136,7 +136,11 @@ impl Cover {
     /// The lights [`crate::integrator::control_variate::Auto`] covers in `scene`: every one in a
     /// scene of area lights only, else the unblocked ones.
     pub fn auto<const S: usize, const L: usize, const M: usize>(scene: &Scene<S, L, M>) -> Self {
-        if scene.lights().iter().all(|l| matches!(l, Light::Area { .. })) { Cover::Every } else { Cover::Unblocked }
+        if scene.lights().iter().all(|l| matches!(l, Light::Area { .. })) {
+            Cover::Every
+        } else {
+            Cover::Unblocked
+        }
     }
 }
 

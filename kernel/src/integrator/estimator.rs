@@ -352,7 +352,19 @@ macro_rules! shading {
             it.lights.selection_in(&point, &frame, &seen, residual)
         };
         let (covered, unoccluded) = (covered.lights, covered.radiance);
-        Shading { x, bsdf, frame, seen, point, selection, control_variate, covered, unoccluded, all_exact, every_emitter }
+        Shading {
+            x,
+            bsdf,
+            frame,
+            seen,
+            point,
+            selection,
+            control_variate,
+            covered,
+            unoccluded,
+            all_exact,
+            every_emitter,
+        }
     }};
 }
 use shading;
@@ -395,7 +407,8 @@ impl<St: Strategies<L>, const L: usize> Shading<'_, St, L> {
         scene: &Scene<S, L, M>,
         f: impl FnOnce(&PointRays<S>) -> R,
     ) -> R {
-        let among = if self.every_emitter || !POINT_TERMS { u32::MAX } else { scene.reachable(self.x.object) };
+        let among =
+            if self.every_emitter || !POINT_TERMS { u32::MAX } else { scene.reachable(self.x.object) };
         scene.with_rays_among(self.x.point.p, among, f)
     }
 

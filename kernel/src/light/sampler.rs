@@ -88,7 +88,13 @@ impl<'a, St: LightStrategies<L>, const S: usize, const L: usize, const M: usize>
     /// already computed, and what the control variate leaves to sampling there (see
     /// [`Select::at`]).
     #[inline]
-    pub fn selection_in(&self, at: &ShadingPoint, frame: &Frame, seen: &Outgoing, residual: Residual) -> SelectionAt<St, L> {
+    pub fn selection_in(
+        &self,
+        at: &ShadingPoint,
+        frame: &Frame,
+        seen: &Outgoing,
+        residual: Residual,
+    ) -> SelectionAt<St, L> {
         self.selection.at(at, frame, seen, residual)
     }
 

@@ -23,7 +23,7 @@ pub mod progressive;
 use std::cell::RefCell;
 
 use picomis::RenderSettings;
-use picomis_format::SceneFile;
+use picomis_format::{IntegratorDesc, SceneFile};
 
 use crate::catalog::{LIGHT_SELECTION, LOBE_MIXING, METHODS, SCENES, SPHERE_SAMPLING};
 use crate::progressive::{Progressive, colorbar};
@@ -54,7 +54,9 @@ pub struct Request {
 }
 
 impl Request {
-    /// The scene file and kernel settings, or why not (an unknown index, invalid numbers).
+    /// The scene file and kernel settings, or why not (an unknown index, invalid numbers): the
+    /// page's choices as keys of the integrator block ([`IntegratorDesc`], the type the scene
+    /// file and the command line use) over the scene file's own block.
     pub fn resolve(&self) -> Result<(SceneFile, RenderSettings), String> {
         let pick = |i: u32, len: usize, what: &str| {
             usize::try_from(i).ok().filter(|&i| i < len).ok_or_else(|| format!("no {what} number {i}"))
@@ -62,19 +64,24 @@ impl Request {
         let b = SCENES[pick(self.scene, SCENES.len(), "scene")?];
         let file = SceneFile::parse(b.json, b.name).map_err(|e| e.to_string())?;
         let method = catalog::method(pick(self.method, METHODS.len(), "method")?, self.beta, self.alpha)?;
-        let name = method.name();
         let count =
             |n: u32, what: &str| u16::try_from(n).map_err(|_| format!("{n} {what} samples: too many"));
-        let (n_light, n_bsdf) = (count(self.light_samples, "light")?, count(self.bsdf_samples, "BSDF")?);
-        let settings = RenderSettings::new(method, n_light, n_bsdf, 1, self.seed)
-            .map_err(|e| format!("{name} with {n_light} light + {n_bsdf} BSDF samples: {e}"))?
-            .with_sphere_sampling(
+        let keys = IntegratorDesc {
+            mis: Some(method),
+            beta: method.beta(),
+            alpha: method.alpha(),
+            light_samples: Some(count(self.light_samples, "light")?),
+            bsdf_samples: Some(count(self.bsdf_samples, "BSDF")?),
+            sphere_sampling: Some(
                 SPHERE_SAMPLING[pick(self.spheres, SPHERE_SAMPLING.len(), "sphere sampling")?],
-            )
-            .with_light_selection(
+            ),
+            light_selection: Some(
                 LIGHT_SELECTION[pick(self.selection, LIGHT_SELECTION.len(), "light selection")?],
-            )
-            .with_lobe_mixing(LOBE_MIXING[pick(self.lobe, LOBE_MIXING.len(), "lobe mixing")?]);
+            ),
+            lobe_mixing: Some(LOBE_MIXING[pick(self.lobe, LOBE_MIXING.len(), "lobe mixing")?]),
+            ..IntegratorDesc::default()
+        };
+        let settings = keys.over(file.integrator()).settings(1, self.seed).map_err(|e| e.to_string())?;
         Ok((file, settings))
     }
 }

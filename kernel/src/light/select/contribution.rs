@@ -49,7 +49,13 @@ impl<const L: usize> Select<L> for ByContribution<L> {
     }
 
     #[inline]
-    fn at(&self, point: &ShadingPoint, frame: &Frame, seen: &Outgoing, residual: Residual) -> GridDistribution<L> {
+    fn at(
+        &self,
+        point: &ShadingPoint,
+        frame: &Frame,
+        seen: &Outgoing,
+        residual: Residual,
+    ) -> GridDistribution<L> {
         if !self.local {
             return GridDistribution::default();
         }
@@ -95,7 +101,13 @@ impl<const L: usize> ByContribution<L> {
     /// The mixture of the lights' contributions and importances at `point`. Out of line: the
     /// code around it stays small.
     #[inline(never)]
-    fn weights(&self, point: &ShadingPoint, frame: &Frame, seen: &Outgoing, residual: Residual) -> GridDistribution<L> {
+    fn weights(
+        &self,
+        point: &ShadingPoint,
+        frame: &Frame,
+        seen: &Outgoing,
+        residual: Residual,
+    ) -> GridDistribution<L> {
         let n = self.lights.geometry().len().min(L);
         // The BSDF's part, if it has one: in the receiver's frame.
         let receiver = weighs_bsdf(&point.bsdf).then(|| Receiver::new(seen, frame));
