@@ -54,6 +54,11 @@ done
 step "docs (-D warnings)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p picomis -p picomis-format
 
+step "crates.io packages: cargo publish --dry-run (picomis, picomis-format)"
+# Packaged together: picomis-format's picomis resolves to the kernel packaged beside it. Each
+# package is built from its .crate alone. --allow-dirty: the suite also runs on uncommitted trees.
+cargo publish --dry-run --allow-dirty -p picomis -p picomis-format
+
 step "kernel unit tests in a debug build (overflow checks on: RenderStats of a 4096x4096 film at 256 spp)"
 cargo test -p picomis --lib
 # With the fixed-point ray queries: their i64 products under overflow checks.
