@@ -19,7 +19,7 @@ pub const SOFT_FLOAT: bool =
     cfg!(all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f")));
 
 /// Correctly rounded square root. On hard-float Arm cores this is the FPU's `vsqrt.f32`; on the
-/// soft-float cores (Cortex-M0, RV32IMC) [`crate::num::sqrt::sqrt_f32`], in 32-bit integer operations;
+/// soft-float cores (Cortex-M0, RV32IMC) `num::sqrt::sqrt_f32`, in 32-bit integer operations;
 /// elsewhere libm's `sqrtf` (`sqrtss` on x86). IEEE 754 requires the square root to be correctly
 /// rounded, so every path gives the same bits (NaN payloads aside).
 #[inline]

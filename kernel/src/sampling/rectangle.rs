@@ -136,8 +136,8 @@ pub const COSINE_WARP_FLOOR: f32 = 0.01;
 /// receiver's cosines max([`COSINE_WARP_FLOOR`], n . v / |v|) towards the corners (x0, y0),
 /// (x1, y0), (x0, y1), (x1, y1), which [`sample_spherical_rectangle`] reaches at u = (0, 0),
 /// (1, 0), (0, 1), (1, 1). `n` is the receiver's unit normal in the rectangle's local frame.
-/// Warping u by [`sample_bilinear`] with them draws directions roughly in proportion to the
-/// cosine; the pdf is [`spherical_rectangle_pdf`] times [`bilinear_pdf`] at the u of the
+/// Warping u by `sample_bilinear` with them draws directions roughly in proportion to the
+/// cosine; the pdf is [`spherical_rectangle_pdf`] times `bilinear_pdf` at the u of the
 /// direction ([`invert_spherical_rectangle_sample`]).
 #[inline]
 pub fn spherical_rectangle_cosines(r: &SphericalRectangle, n: Vec3) -> [f32; 4] {

@@ -1,4 +1,4 @@
-//! The scene as an image of 32-bit words ([`crate::words`]): written on the host, loaded in
+//! The scene as an image of 32-bit words (the `words` module): written on the host, loaded in
 //! place on a device.
 
 use crate::error::SceneError;
@@ -13,7 +13,7 @@ use crate::words::{Image, Words};
 const IMAGE_MAGIC: u32 = u32::from_be_bytes(*b"PMI\x01");
 
 impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
-    /// Writes the built scene to `out` as 32-bit words ([`crate::words`]): its materials,
+    /// Writes the built scene to `out` as 32-bit words (the `words` module): its materials,
     /// objects and lights with every value they derive, its camera and film, and what its ray
     /// queries cull. [`Scene::load_image`] reads them back into a scene of any capacity that
     /// holds them, bit for bit.
@@ -40,7 +40,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// way carries none of that code. The image's structure is checked (counts against the
     /// capacities, kinds, every index names an entry, each emitter and its light name each
     /// other): anything else is [`SceneError::BadImage`], and the scene is then empty. Ray
-    /// queries run in f32 ([`Scene::enable_arith`] after loading for fixed point).
+    /// queries run in f32 (`Scene::enable_arith` after loading for fixed point).
     pub fn load_image(&mut self, image: &[u32]) -> Result<(), SceneError> {
         let loaded = self.read_image(&mut Words::new(image));
         if loaded.is_none() {

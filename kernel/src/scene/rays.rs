@@ -19,7 +19,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
 
     /// The nearest hit beyond `t_near` of the camera ray `ray` through pixel `(x, y)`: that of
     /// [`Scene::intersect`], bit for bit, with the tests of the objects no camera ray through
-    /// the pixel's tile of the film can hit left out ([`CameraCull`]), in f32 and in fixed
+    /// the pixel's tile of the film can hit left out (`CameraCull`), in f32 and in fixed
     /// point alike.
     #[inline]
     pub fn intersect_camera(&self, ray: &Ray, t_near: f32, x: u32, y: u32) -> Option<Hit> {
@@ -42,7 +42,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     }
 
     /// The objects a camera ray through pixel `(x, y)` may hit: bit i for object i (objects
-    /// from [`CULLED`](crate::query::camera_cull::CULLED) on may always be hit).
+    /// from `CULLED` on may always be hit).
     #[inline]
     pub fn camera_candidates(&self, x: u32, y: u32) -> u32 {
         self.camera_cull.candidates(x, y)
@@ -150,7 +150,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
 
     /// [`Scene::emitter_hit`] for a ray that leaves a point of object `receiver` (a BSDF sample's
     /// ray): the same answer, with the occlusion test skipping the objects that cannot lie
-    /// between the receiver and the light found ([`ShadowCull`]). For rays from elsewhere the
+    /// between the receiver and the light found (`ShadowCull`). For rays from elsewhere the
     /// answer may differ: use [`Scene::emitter_hit`].
     #[inline]
     pub fn emitter_hit_from_surface(&self, ray: &Ray, receiver: ShapeId) -> Option<(Hit, LightId, Rgb)> {
@@ -257,7 +257,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
 
     /// [`Scene::unoccluded`] for a shadow ray from a point of object `receiver` to a point of
     /// light `light` at `t_max` (skipping the receiver and the light's shape): the same answer,
-    /// testing only the objects that may lie between the two ([`ShadowCull`]). For rays from
+    /// testing only the objects that may lie between the two (`ShadowCull`). For rays from
     /// elsewhere, or to other points, the answer may differ: use [`Scene::unoccluded`].
     #[inline]
     pub fn shadow_unoccluded(&self, ray: &Ray, t_max: f32, receiver: ShapeId, light: LightId) -> bool {
@@ -268,7 +268,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     }
 
     /// The objects that may block a shadow ray from a point of object `receiver` to light
-    /// `light`: bit i for object i (objects from [`CULLED`](crate::query::camera_cull::CULLED) on, and
+    /// `light`: bit i for object i (objects from `CULLED` on, and
     /// every object when the pair has no mask, may always block; the receiver and the light's
     /// shape never do).
     #[inline]
