@@ -109,10 +109,12 @@ impl<T: ConstSettings> SettingsSource for T {
 }
 
 impl RenderSettings {
-    /// Settings with `n_light` light and `n_bsdf` BSDF samples per camera sample, `spp` camera
-    /// samples per pixel, and the strategies of [`Preset::Best`] (without its control variate for
-    /// a method that draws no light samples). Rejects a method left with no samples, a power heuristic whose beta is
-    /// not finite and positive, a cutoff alpha outside [0, 1], and `spp` = 0.
+    /// Settings with `method`, `n_light` light and `n_bsdf` BSDF samples per camera sample, `spp`
+    /// camera samples per pixel, and the plain strategies of the lecture ([`Preset::Lecture`]:
+    /// the estimator exactly as the method names it, what the tests of each technique need). The
+    /// best strategies are [`Preset::Best`]'s: `Preset::Best.settings().with_method(method)`.
+    /// Rejects a method left with no samples, a power heuristic whose beta is not finite and
+    /// positive, a cutoff alpha outside [0, 1], and `spp` = 0.
     pub const fn new(
         method: Method,
         light_samples: u16,
@@ -130,9 +132,7 @@ impl RenderSettings {
         if let (0, 0) = method.sample_counts(light_samples, bsdf_samples) {
             return Err(SceneError::NoTechnique);
         }
-        let s = Self { method, light_samples, bsdf_samples, spp, seed, ..Preset::Best.settings() };
-        // The preset's control variate belongs to the light technique: without it, none.
-        Ok(if s.technique_samples().0 == 0 { Self { control_variate: ControlVariate::Off, ..s } } else { s })
+        Self { method, light_samples, bsdf_samples, spp, seed, ..Preset::Lecture.settings() }.checked()
     }
 
     /// The same settings with another MIS model. The one-sample model's `c_light` must be in
@@ -154,21 +154,31 @@ impl RenderSettings {
         self
     }
 
-    /// The same settings with the analytic control variate on or off. On needs the light
-    /// technique, whose part the closed form is: a method and model that draw light samples.
+    /// The same settings with the analytic control variate on, off or by its rule. On and auto
+    /// need the light technique, whose part the closed form is: a method and model that draw
+    /// light samples (named here without them, either is an error).
     pub const fn with_control_variate(mut self, control_variate: ControlVariate) -> Result<Self, SceneError> {
         self.control_variate = control_variate;
-        self.checked()
-    }
-
-    /// These settings, if the control variate (when on) has the light technique it belongs to.
-    const fn checked(self) -> Result<Self, SceneError> {
-        if let ControlVariate::On | ControlVariate::Auto = self.control_variate {
+        if let ControlVariate::On | ControlVariate::Auto = control_variate {
             if self.technique_samples().0 == 0 {
                 return Err(SceneError::ControlVariateWithoutLight);
             }
         }
         Ok(self)
+    }
+
+    /// These settings after a change of method, model or sample counts: a control variate that
+    /// is on needs the light technique (an error without it); one by its rule (auto, as the best
+    /// preset has it) yields to a method without light samples and is off.
+    const fn checked(self) -> Result<Self, SceneError> {
+        if self.technique_samples().0 > 0 {
+            return Ok(self);
+        }
+        match self.control_variate {
+            ControlVariate::On => Err(SceneError::ControlVariateWithoutLight),
+            ControlVariate::Auto => Ok(Self { control_variate: ControlVariate::Off, ..self }),
+            ControlVariate::Off => Ok(self),
+        }
     }
 
     /// The same settings with another sphere-light sampling strategy.
