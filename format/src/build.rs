@@ -3,16 +3,26 @@
 //! settings as constants and the strategy types its integrator block names, so the firmware
 //! carries only the code its scene uses.
 //!
+//! The firmware's `Cargo.toml` has `picomis` as a dependency and `picomis-format` as a
+//! build-dependency; its `build.rs`:
+//!
 //! ```no_run
-//! // build.rs: the module for a 240 x 240 display, into OUT_DIR/picomis_scene.rs.
+//! // build.rs: the scene for a 240 x 240 display, into OUT_DIR/picomis_scene.rs.
 //! let firmware = picomis_format::build::Firmware::new("scene.json", 240, 240);
 //! if let Err(e) = firmware.generate() {
+//!     // One line naming the file, the entry and the reason; the build stops.
 //!     panic!("{e}");
 //! }
 //! ```
 //!
+//! The fields choose more (`Firmware { spp: Some(4), ..Firmware::new(...) }`): a preset instead
+//! of the file's integrator block, the samples per pixel, the seed, the module's file name.
+//!
+//! The firmware (`no_std`) includes the module, loads the scene into a `static` and draws it
+//! into any `embedded-graphics` `DrawTarget` whose colour converts from `Rgb888`:
+//!
 //! ```ignore
-//! // main.rs (no_std)
+//! // main.rs (no_std): the generated module only exists in a build script's OUT_DIR.
 //! mod scene {
 //!     include!(concat!(env!("OUT_DIR"), "/picomis_scene.rs"));
 //! }
@@ -37,7 +47,8 @@ use picomis::{Film, Preset};
 
 use crate::{IntegratorDesc, LoadError, SceneFile};
 
-/// What a firmware's build script asks for.
+/// What a firmware's build script asks for: the generator of the scene module (see the
+/// [module docs](self) for a `build.rs` and the firmware that uses the module).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Firmware {
     /// The scene file.

@@ -1,13 +1,38 @@
 //! # picomis-format
 //!
-//! The `picomis-scene/1` JSON scene format (see `scenes/FORMAT.md`): strict loading with errors
-//! that name the file, the entry and the reason; kernel scenes of any capacity; and Rust source
-//! for firmware build scripts, so a microcontroller gets the same scene, bit for bit.
+//! The `picomis-scene/1` JSON scene format of the [`picomis`] renderer (specified in `FORMAT.md`,
+//! in this package): strict loading with errors that name the file, the entry and the reason;
+//! kernel scenes of any capacity; and Rust source for a firmware's build script ([`build`]), so a
+//! microcontroller gets the same scene, bit for bit.
 //!
 //! Loading goes in two steps. [`SceneFile::parse`] deserializes strictly (unknown keys and wrong
 //! types are errors) and lowers the file into a list of validated kernel values. Both
 //! [`SceneFile::build`] and [`SceneFile::to_rust`] then replay that one list, so the host and the
 //! firmware add the same materials, shapes and lights in the same order with the same f32 bits.
+//!
+//! ```no_run
+//! use picomis_format::SceneFile;
+//!
+//! # fn main() -> Result<(), picomis_format::LoadError> {
+//! let file = SceneFile::load(std::path::Path::new("scene.json"))?;
+//! let counts = file.counts(); // the capacities the kernel scene needs
+//! // A scene with room for 16 shapes, 4 lights and 8 materials, and the file's settings.
+//! let scene = file.build::<16, 4, 8>()?;
+//! let settings = file.default_settings();
+//! # let _ = (counts, scene, settings);
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! For a firmware, [`build::Firmware`] does it all in `build.rs`: the scene built and checked on
+//! the host, as an image the device loads in place, its settings as constants and the strategy
+//! types they name.
+//!
+//! ## Cargo features
+//!
+//! - `cli`: [`IntegratorDesc`] as a `clap` argument group (`#[command(flatten)]`), with the
+//!   integrator block's keys as flags.
+#![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
 
 pub mod build;
@@ -20,9 +45,12 @@ pub mod mitsuba;
 use std::fmt;
 use std::path::Path;
 
+// Public for the build script of the workspace's built-in scene list (picomis-builtins); not API.
+#[doc(hidden)]
 pub use catalog::builtins_rust;
 pub use codegen::firmware_settings;
 #[cfg(feature = "cli")]
+#[cfg_attr(docsrs, doc(cfg(feature = "cli")))]
 pub use integrator::choice_parser;
 pub use integrator::{IntegratorDesc, IntegratorType, KeyError};
 
@@ -349,3 +377,8 @@ pub struct MaterialKinds {
 pub(crate) fn check_camera(camera: CameraDesc, film: Film) -> Result<(), SceneError> {
     Camera::new(camera, film).map(|_| ())
 }
+
+// The README's examples are compiled as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

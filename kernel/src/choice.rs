@@ -1,6 +1,6 @@
 //! Closed sets of named options: a strategy's kinds (how lights are selected, how sphere lights
 //! are sampled, ...), the combination methods, the sample streams. Each set is one enum whose
-//! names, summaries and list are written once, by [`choices!`](crate::choices); the scene format,
+//! names, summaries and list are written once, by the kernel's macro `choices!`; the scene format,
 //! the command line, the browser page and the reports all ask it through [`Choice`].
 
 /// A closed set of named options.
@@ -40,6 +40,9 @@ pub trait Choice: Copy + PartialEq + core::fmt::Debug + 'static {
 /// assert_eq!(Colour::ALL, [Colour::Red, Colour::Blue]);
 /// assert_eq!(Colour::Red.to_string(), "red");
 /// ```
+// Exported (`#[macro_export]`) because the kernel's option enums are defined with it from every
+// module; hidden because it is not API: a user reads the enums through [`Choice`].
+#[doc(hidden)]
 #[macro_export]
 macro_rules! choices {
     (

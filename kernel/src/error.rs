@@ -101,6 +101,7 @@ pub enum SceneError {
     /// The fixed-point format chosen for the scene cannot represent shape `entry` accurately
     /// (feature `fixed`).
     #[cfg(feature = "fixed")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "fixed")))]
     NotRepresentable {
         /// Index of the shape.
         entry: u16,
@@ -111,6 +112,7 @@ pub enum SceneError {
 
 /// Why the fixed-point format cannot represent a shape (feature `fixed`).
 #[cfg(feature = "fixed")]
+#[cfg_attr(docsrs, doc(cfg(feature = "fixed")))]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Unrepresentable {

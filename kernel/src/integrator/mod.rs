@@ -29,4 +29,8 @@ pub use estimator::{Integrator, Shading};
 pub use mis::{Heuristic, Method, Technique};
 pub use model::{MisModel, Model};
 pub use settings::{ConstSettings, Given, Preset, RenderSettings, SettingsSource};
-pub use strategies::{Direct, Strategies, Visit, dispatch, type_paths};
+pub use strategies::{Direct, Strategies, Visit, dispatch};
+// Public for picomis-format's code generator (the type paths it writes into a firmware's scene
+// module); not API.
+#[doc(hidden)]
+pub use strategies::type_paths;

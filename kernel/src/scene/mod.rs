@@ -230,6 +230,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// when the format cannot represent the scene accurately, and the queries then run in f32.
     /// Shapes added later are checked as they are added.
     #[cfg(feature = "fixed")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "fixed")))]
     pub fn enable_arith(&mut self, arith: Arith) -> Result<(), SceneError> {
         match arith {
             Arith::F32 => {
@@ -245,6 +246,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
     /// Whether `arith` can represent this scene (`Err` names the shape that it cannot; feature
     /// `fixed`).
     #[cfg(feature = "fixed")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "fixed")))]
     pub fn supports(&self, arith: Arith) -> Result<(), SceneError> {
         match arith {
             Arith::F32 => Ok(()),
@@ -256,6 +258,7 @@ impl<const S: usize, const L: usize, const M: usize> Scene<S, L, M> {
 
     /// The arithmetic of the ray queries (feature `fixed`).
     #[cfg(feature = "fixed")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "fixed")))]
     pub fn arith(&self) -> Arith {
         if self.fixed.is_on() { Arith::Fixed } else { Arith::F32 }
     }
