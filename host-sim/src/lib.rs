@@ -14,21 +14,26 @@
 //! picomis-sim render box_quad --spp 256 --mis balance --out box.exr
 //! picomis-sim render my_scene.json --width 640 --light-samples 2 --seed 7 --out my.pfm
 //! picomis-sim render lambert_sphere --out fb.rgb565    # bytes of an RGB565 LE framebuffer
+//! picomis-sim render veach_mis -j 1 --pixel 191,127    # one pixel's estimate, split by technique
 //! picomis-sim figure --spp 32                          # the lecture's MIS figure -> veach_mis_figure.png
-//! picomis-sim serve                                    # the browser page (web/) at http://127.0.0.1:8000/
+//! picomis-sim serve                                    # the browser page (built in) at http://127.0.0.1:8000/
 //! ```
 //!
 //! Every scene, built-in or file, is built as the host's one scene type ([`scenes::HostScene`]:
 //! [`scenes::HOST_SHAPES`] shapes, [`scenes::HOST_LIGHTS`] lights and [`scenes::HOST_MATERIALS`]
 //! materials). Bad scene files and flag values print
-//! `error: <file>: <entry>: <reason>` (or `error: <flag>: <reason>`) and exit with code 2.
+//! `error: <file>: <entry>: <reason>` (or `error: <flag>: <reason>`) and exit with code 2, and
+//! so does a render whose buffers would not fit in memory ([`memory`]), before it allocates.
 #![deny(missing_docs)]
 
 pub mod cli;
 pub mod figure;
 pub mod integrator;
 pub mod interop;
+pub mod memory;
 pub mod output;
+pub mod page;
+pub mod pixel;
 pub mod render;
 pub mod scenes;
 pub mod serve;

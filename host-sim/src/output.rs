@@ -56,20 +56,32 @@ impl Format {
             )),
         }
     }
+
+    /// An upper estimate of the bytes per pixel that encoding takes beyond the linear image:
+    /// the file in memory (vectors that grow may hold twice their length) and the encoder's own
+    /// buffers. For [`crate::memory`]'s check before a render.
+    pub fn encoding_bytes_per_pixel(self) -> u64 {
+        match self {
+            // The 8-bit RGB pixels (3), the PNG file (at most about 3, twice while it grows).
+            Format::Png => 3 + 2 * 3 + 1,
+            // The file (12, twice while it grows) and the encoder's blocks (12).
+            Format::Exr => 2 * 12 + 12,
+            // The file, allocated at its size.
+            Format::Pfm => 12,
+            Format::Rgb565 => 2,
+        }
+    }
 }
 
 /// Encodes `image` in `format`.
 pub fn encode(image: &Image, format: Format) -> Result<Vec<u8>, String> {
     match format {
         Format::Png => {
-            let rgb: Vec<u8> = image
-                .data
-                .iter()
-                .flat_map(|&c| {
-                    let t = tone_map(c);
-                    [t.r(), t.g(), t.b()]
-                })
-                .collect();
+            let mut rgb = Vec::with_capacity(3 * image.data.len());
+            rgb.extend(image.data.iter().flat_map(|&c| {
+                let t = tone_map(c);
+                [t.r(), t.g(), t.b()]
+            }));
             encode_png(image.width, image.height, &rgb)
         }
         Format::Exr => encode_exr(image),
@@ -105,7 +117,9 @@ fn encode_exr(image: &Image) -> Result<Vec<u8>, String> {
 }
 
 fn encode_pfm(image: &Image) -> Vec<u8> {
-    let mut out = format!("PF\n{} {}\n-1.0\n", image.width, image.height).into_bytes();
+    let head = format!("PF\n{} {}\n-1.0\n", image.width, image.height);
+    let mut out = Vec::with_capacity(head.len() + 12 * image.data.len());
+    out.extend_from_slice(head.as_bytes());
     for y in (0..image.height).rev() {
         for x in 0..image.width {
             let c = image.get(x, y);
@@ -125,7 +139,9 @@ pub fn rgb565(c: Rgb) -> u16 {
 }
 
 fn encode_rgb565(image: &Image) -> Vec<u8> {
-    image.data.iter().flat_map(|&c| rgb565(c).to_le_bytes()).collect()
+    let mut out = Vec::with_capacity(2 * image.data.len());
+    out.extend(image.data.iter().flat_map(|&c| rgb565(c).to_le_bytes()));
+    out
 }
 
 /// Checks before a render that `path` can be written: its format is known and its folder exists.
@@ -163,20 +179,31 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
 
 /// Reads an EXR file's first RGB(A) layer as linear RGB.
 pub fn read_exr(path: &Path) -> Result<Image, String> {
-    use exr::prelude::read_first_rgba_layer_from_file;
-    let image = read_first_rgba_layer_from_file(
-        path,
-        |resolution, _| Image {
-            width: resolution.width() as u32,
-            height: resolution.height() as u32,
-            data: vec![Rgb::ZERO; resolution.area()],
-        },
-        |img: &mut Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-            let i = pos.y() * img.width as usize + pos.x();
-            img.data[i] = Rgb::new(r, g, b);
-        },
-    )
-    .map_err(|e| format!("{}: {e}", path.display()))?;
+    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    decode_exr(&bytes).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Decodes an EXR file's bytes: its first RGB(A) layer as linear RGB.
+pub fn decode_exr(bytes: &[u8]) -> Result<Image, String> {
+    use exr::prelude::{ReadChannels, ReadLayers, read};
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |resolution, _| Image {
+                width: resolution.width() as u32,
+                height: resolution.height() as u32,
+                data: vec![Rgb::ZERO; resolution.area()],
+            },
+            |img: &mut Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                let i = pos.y() * img.width as usize + pos.x();
+                img.data[i] = Rgb::new(r, g, b);
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(Cursor::new(bytes))
+        .map_err(|e| e.to_string())?;
     Ok(image.layer_data.channel_data.pixels)
 }
 

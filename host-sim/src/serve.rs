@@ -1,12 +1,16 @@
-//! `picomis-sim serve`: serves the browser page (`web/`) on a local port, because browsers do
-//! not load WebAssembly from `file://`.
+//! `picomis-sim serve`: serves the browser page on a local port, because browsers do not load
+//! WebAssembly from `file://`. The page is the one built into the binary ([`crate::page`]), or
+//! with `--dir` a folder (`web/` while developing the page).
 //!
 //! A deliberately small static file server on `std::net`: GET and HEAD only, one request per
 //! connection, bounded request size and socket timeouts, no directory listing. Every request
-//! path goes through [`resolve`], the one function that decides which file (if any) a request
-//! may read: only regular files of known page types inside the folder, never a path that leaves
-//! it (`..`, encoded or not, absolute, backslashes, hidden names) and never through a symlink.
+//! target goes through [`request_path`], the one function that decides which names a request
+//! may ask for: a `/`-separated list of plain names, never a path that leaves the page (`..`,
+//! encoded or not, absolute, backslashes, hidden names). The built-in page then answers only
+//! its own file names ([`built_in`]); a folder only regular files of known page types inside it,
+//! never through a symlink ([`resolve`]).
 
+use std::borrow::Cow;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
@@ -15,11 +19,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 use crate::SimError;
+use crate::page;
+pub use crate::page::WASM_FILE;
 
-/// The file the page loads the kernel from; `serve` refuses to start without it.
-pub const WASM_FILE: &str = "picomis.wasm";
-
-/// How to build [`WASM_FILE`], for the error message when it is missing.
+/// How to build [`WASM_FILE`] into a folder, for the error message when it is missing there.
 pub const BUILD_HINT: &str = "scripts/web.sh build";
 
 /// Longest request head (request line and headers) read, in bytes.
@@ -42,26 +45,49 @@ pub struct ServeArgs {
     /// Address to listen on (e.g. 0.0.0.0 for every interface).
     #[arg(long, value_name = "ADDR", default_value_t = IpAddr::V4(Ipv4Addr::LOCALHOST))]
     pub bind: IpAddr,
-    /// The folder to serve (default: the `web/` folder of this source tree).
+    /// Serve this folder instead of the page built into picomis-sim (to develop the page:
+    /// `web`, after `scripts/web.sh build` has written web/picomis.wasm).
     #[arg(long, value_name = "DIR")]
     pub dir: Option<PathBuf>,
 }
 
-/// The page's folder in this source tree.
-pub fn default_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join("web")
+/// What `serve` serves.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Site {
+    /// The page built into this binary ([`crate::page`]).
+    BuiltIn,
+    /// A folder, by its canonical path.
+    Folder(PathBuf),
+}
+
+impl Site {
+    /// The site of `--dir`: the folder, which must hold [`WASM_FILE`]; without `--dir` the
+    /// built-in page, which must have its WebAssembly.
+    pub fn of(dir: Option<&Path>) -> Result<Site, SimError> {
+        let Some(dir) = dir else {
+            return match page::wasm() {
+                Ok(_) => Ok(Site::BuiltIn),
+                Err(why) => Err(SimError::Usage(format!(
+                    "this picomis-sim has no WebAssembly for the page: {why} (or serve a folder \
+                     holding {WASM_FILE} with --dir; `{BUILD_HINT}` writes web/{WASM_FILE})"
+                ))),
+            };
+        };
+        let root =
+            dir.canonicalize().map_err(|e| SimError::Usage(format!("--dir {}: {e}", dir.display())))?;
+        if !root.join(WASM_FILE).is_file() {
+            return Err(SimError::Usage(format!(
+                "{}: missing; build it first with `{BUILD_HINT}` (it compiles the kernel to WebAssembly)",
+                root.join(WASM_FILE).display()
+            )));
+        }
+        Ok(Site::Folder(root))
+    }
 }
 
 /// Runs `picomis-sim serve` until the process is stopped.
 pub fn run(args: &ServeArgs) -> Result<(), SimError> {
-    let dir = args.dir.clone().unwrap_or_else(default_dir);
-    let root = dir.canonicalize().map_err(|e| SimError::Usage(format!("--dir {}: {e}", dir.display())))?;
-    if !root.join(WASM_FILE).is_file() {
-        return Err(SimError::Usage(format!(
-            "{}: missing; build it first with `{BUILD_HINT}` (it compiles the kernel to WebAssembly)",
-            root.join(WASM_FILE).display()
-        )));
-    }
+    let site = Site::of(args.dir.as_deref())?;
     let addr = SocketAddr::new(args.bind, args.port);
     let listener = TcpListener::bind(addr).map_err(|e| SimError::Io(format!("{addr}: {e}")))?;
     let local = listener.local_addr().map_err(|e| SimError::Io(e.to_string()))?;
@@ -69,15 +95,19 @@ pub fn run(args: &ServeArgs) -> Result<(), SimError> {
         IpAddr::V6(ip) => format!("[{ip}]"),
         IpAddr::V4(ip) => ip.to_string(),
     };
-    println!("serving {} at http://{host}:{}/ (Ctrl-C to stop)", root.display(), local.port());
+    let what = match &site {
+        Site::BuiltIn => "the page built into picomis-sim".to_string(),
+        Site::Folder(root) => root.display().to_string(),
+    };
+    println!("serving {what} at http://{host}:{}/ (Ctrl-C to stop)", local.port());
     std::io::stdout().flush().map_err(|e| SimError::Io(e.to_string()))?;
-    serve(listener, root);
+    serve(listener, site);
     Ok(())
 }
 
-/// Serves `root` (a canonical path) on `listener` forever, one thread per connection.
-pub fn serve(listener: TcpListener, root: PathBuf) {
-    let root = Arc::new(root);
+/// Serves `site` on `listener` forever, one thread per connection.
+pub fn serve(listener: TcpListener, site: Site) {
+    let site = Arc::new(site);
     let active = Arc::new(AtomicUsize::new(0));
     for stream in listener.incoming() {
         let Ok(stream) = stream else { continue };
@@ -85,9 +115,9 @@ pub fn serve(listener: TcpListener, root: PathBuf) {
             active.fetch_sub(1, Ordering::SeqCst);
             continue; // dropped: closes the connection
         }
-        let (root, active) = (Arc::clone(&root), Arc::clone(&active));
+        let (site, active) = (Arc::clone(&site), Arc::clone(&active));
         std::thread::spawn(move || {
-            let _ = handle(stream, &root);
+            let _ = handle(stream, &site);
             active.fetch_sub(1, Ordering::SeqCst);
         });
     }
@@ -135,13 +165,11 @@ fn hex(b: u8) -> Option<u8> {
     char::from(b).to_digit(16).map(|d| d as u8)
 }
 
-/// The file under `root` (canonical) that request target `target` may read, and its content
-/// type. `/` is `index.html`. The target is percent-decoded once; after decoding it must be a
-/// `/`-separated list of plain names: no empty, `.`, `..` or hidden (`.`-prefixed) segments, no
-/// backslash, colon or NUL. Every existing prefix is checked not to be a symlink, the file must
-/// be a regular file with a page type ([`content_type`]), and its canonical path must lie in
-/// `root`.
-pub fn resolve(root: &Path, target: &str) -> Result<(PathBuf, &'static str), Reject> {
+/// The name a request target asks for: the target's path (query and fragment dropped),
+/// percent-decoded once, `index.html` for `/`. After decoding it must be a `/`-separated list
+/// of plain names: no empty, `.` or `..` segments, no backslash, colon or NUL (forbidden), and
+/// no hidden (`.`-prefixed) names (not found).
+pub fn request_path(target: &str) -> Result<String, Reject> {
     let path = target.split(['?', '#']).next().unwrap_or("");
     let Some(path) = path.strip_prefix('/') else { return Err(Reject::BadRequest) };
     let mut bytes = Vec::with_capacity(path.len());
@@ -157,18 +185,36 @@ pub fn resolve(root: &Path, target: &str) -> Result<(PathBuf, &'static str), Rej
         }
     }
     let decoded = String::from_utf8(bytes).map_err(|_| Reject::BadRequest)?;
-    let decoded = if decoded.is_empty() { "index.html" } else { decoded.as_str() };
+    let decoded = if decoded.is_empty() { "index.html".to_string() } else { decoded };
     if decoded.contains(['\\', '\0', ':']) {
         return Err(Reject::Forbidden);
     }
+    let segments = decoded.split('/');
+    if segments.clone().any(|s| s == ".." || s == "." || s.is_empty()) {
+        return Err(Reject::Forbidden);
+    }
+    if segments.clone().any(|s| s.starts_with('.')) {
+        return Err(Reject::NotFound);
+    }
+    Ok(decoded)
+}
+
+/// The file of the built-in page ([`crate::page`]) that request target `target` asks for
+/// ([`request_path`]), and its content type.
+pub fn built_in(target: &str) -> Result<(&'static [u8], &'static str), Reject> {
+    let name = request_path(target)?;
+    let body = page::file(&name).ok_or(Reject::NotFound)?;
+    Ok((body, content_type(Path::new(&name)).ok_or(Reject::NotFound)?))
+}
+
+/// The file under `root` (canonical) that request target `target` asks for
+/// ([`request_path`]), and its content type. Every existing prefix is checked not to be a
+/// symlink, the file must be a regular file with a page type ([`content_type`]), and its
+/// canonical path must lie in `root`.
+pub fn resolve(root: &Path, target: &str) -> Result<(PathBuf, &'static str), Reject> {
+    let name = request_path(target)?;
     let mut file = root.to_path_buf();
-    for segment in decoded.split('/') {
-        if segment == ".." || segment == "." || segment.is_empty() {
-            return Err(Reject::Forbidden);
-        }
-        if segment.starts_with('.') {
-            return Err(Reject::NotFound);
-        }
+    for segment in name.split('/') {
         file.push(segment);
         match std::fs::symlink_metadata(&file) {
             Ok(m) if m.file_type().is_symlink() => return Err(Reject::Forbidden),
@@ -186,6 +232,21 @@ pub fn resolve(root: &Path, target: &str) -> Result<(PathBuf, &'static str), Rej
         return Err(Reject::Forbidden);
     }
     Ok((canonical, content_type))
+}
+
+/// The body and content type `site` answers `target` with.
+fn lookup(site: &Site, target: &str) -> Result<(Cow<'static, [u8]>, &'static str), Reject> {
+    match site {
+        Site::BuiltIn => built_in(target).map(|(body, ct)| (Cow::Borrowed(body), ct)),
+        Site::Folder(root) => {
+            let (path, ct) = resolve(root, target)?;
+            let meta = std::fs::metadata(&path).map_err(|_| Reject::NotFound)?;
+            if meta.len() > MAX_FILE {
+                return Err(Reject::NotFound);
+            }
+            std::fs::read(&path).map(|body| (Cow::Owned(body), ct)).map_err(|_| Reject::NotFound)
+        }
+    }
 }
 
 /// Reads the request head: at most [`MAX_REQUEST`] bytes, up to the empty line.
@@ -222,10 +283,10 @@ fn respond(stream: &mut TcpStream, status: (u16, &str), content_type: &str, body
     let _ = stream.flush();
 }
 
-fn handle(mut stream: TcpStream, root: &Path) -> std::io::Result<()> {
+fn handle(mut stream: TcpStream, site: &Site) -> std::io::Result<()> {
     stream.set_read_timeout(Some(TIMEOUT))?;
     stream.set_write_timeout(Some(TIMEOUT))?;
-    respond_to(&mut stream, root);
+    respond_to(&mut stream, site);
     // Lingering close: read (a bounded amount of) what the client still sends, so that closing
     // with unread data does not reset the connection before the client has read the response.
     stream.shutdown(std::net::Shutdown::Write)?;
@@ -234,7 +295,7 @@ fn handle(mut stream: TcpStream, root: &Path) -> std::io::Result<()> {
     Ok(())
 }
 
-fn respond_to(stream: &mut TcpStream, root: &Path) {
+fn respond_to(stream: &mut TcpStream, site: &Site) {
     let error = |stream: &mut TcpStream, r: Reject, head_only: bool| {
         let status = r.status();
         let body = format!("{} {}\n", status.0, status.1);
@@ -266,14 +327,7 @@ fn respond_to(stream: &mut TcpStream, root: &Path) {
             return;
         }
     };
-    let file = resolve(root, target).and_then(|(path, ct)| {
-        let meta = std::fs::metadata(&path).map_err(|_| Reject::NotFound)?;
-        if meta.len() > MAX_FILE {
-            return Err(Reject::NotFound);
-        }
-        std::fs::read(&path).map(|body| (body, ct)).map_err(|_| Reject::NotFound)
-    });
-    match file {
+    match lookup(site, target) {
         Ok((body, ct)) => respond(stream, (200, "OK"), ct, &body, head_only),
         Err(r) => error(stream, r, head_only),
     }
@@ -349,5 +403,36 @@ mod tests {
         }
         let absolute = format!("/{}", root.join("index.html").display());
         assert!(resolve(&root, &absolute).is_err(), "{absolute}");
+    }
+
+    #[test]
+    fn the_built_in_page_answers_its_own_names_only() {
+        let (index, ct) = built_in("/").unwrap();
+        assert_eq!((index, ct), (page::FILES[0].1, "text/html; charset=utf-8"));
+        assert_eq!(built_in("/worker.js?x=1").unwrap().1, "text/javascript; charset=utf-8");
+        assert_eq!(built_in("/%77orker.js").unwrap().1, "text/javascript; charset=utf-8");
+        match page::wasm() {
+            Ok(wasm) => assert_eq!(built_in("/picomis.wasm").unwrap(), (wasm, "application/wasm")),
+            Err(_) => assert_eq!(built_in("/picomis.wasm"), Err(Reject::NotFound)),
+        }
+        let cases = [
+            ("/../index.html", Reject::Forbidden),
+            ("/%2e%2e/index.html", Reject::Forbidden),
+            ("/sub/../index.html", Reject::Forbidden),
+            ("/..\\index.html", Reject::Forbidden),
+            ("//index.html", Reject::Forbidden),
+            ("/./index.html", Reject::Forbidden),
+            ("/index.html%00", Reject::Forbidden),
+            ("/.index.html", Reject::NotFound),
+            ("/sub/index.html", Reject::NotFound),
+            ("/Cargo.toml", Reject::NotFound),
+            ("/wasm/src/lib.rs", Reject::NotFound),
+            ("/index.htm", Reject::NotFound),
+            ("http://localhost/index.html", Reject::BadRequest),
+            ("/%zz", Reject::BadRequest),
+        ];
+        for (target, expected) in cases {
+            assert_eq!(built_in(target).map(|(b, _)| b.len()), Err(expected), "{target}");
+        }
     }
 }

@@ -178,7 +178,15 @@ fn bad_flag_values() {
         (&["--width", "0"], "invalid value '0' for '--width"),
         (&["--height", "20000"], "invalid value '20000' for '--height"),
         (&["--light-samples", "70000"], "invalid value '70000' for '--light-samples"),
-        (&["--seed", "-1"], "unexpected argument '-1'"),
+        // Negative numbers reach the value parsers (not clap's "to pass '-1' as a value" tip).
+        (&["--spp", "-1"], "invalid value '-1' for '--spp <SPP>': -1 is not in 1.."),
+        (&["--seed", "-1"], "invalid value '-1' for '--seed <SEED>': -1 is not in 0.."),
+        (&["--width", "-5"], "invalid value '-5' for '--width <W>': -5 is not in 1..=16384"),
+        (&["--light-samples", "-1"], "invalid value '-1' for '--light-samples <N>'"),
+        (&["-j", "-1"], "invalid value '-1' for '--threads <N>'"),
+        (&["--threads", "2000"], "invalid value '2000' for '--threads <N>'"),
+        (&["--pixel", "3"], "invalid value '3' for '--pixel <X,Y>': expected X,Y"),
+        (&["--pixel", "-1,2"], "invalid value '-1,2' for '--pixel <X,Y>': expected X,Y"),
         (&["--frobnicate"], "unexpected argument '--frobnicate'"),
         (&["--mis-model", "one", "--c-light", "1.5"], "c_light is out of range"),
         (&["--mis-model", "one", "--c-light", "nan"], "c_light is not a finite number"),
@@ -199,6 +207,9 @@ fn bad_flag_values() {
             "{flags:?}: {stderr:?} should say {reason:?}"
         );
         assert!(!stderr.contains("panicked"), "{flags:?}: {stderr}");
+        // A value that starts with '-' is read as the value (no "use '-- -1'"); an unknown flag
+        // keeps clap's tip.
+        assert!(reason.contains("unexpected argument") || !stderr.contains("-- -"), "{flags:?}: {stderr}");
         assert!(files(dir.path()).is_empty(), "{flags:?} wrote a file");
     }
     // Output paths are checked before rendering.
@@ -402,7 +413,9 @@ fn a_view_pass_renders_what_render_renders() {
 
     let flags = ["--mis", "cutoff", "--alpha", "0.2", "--light-selection", "power", "--seed", "5"];
     let loaded = picomis_sim::scenes::load(Some("veach_mis")).unwrap();
-    let Command::View(view) = Cli::parse_from([&["picomis-sim", "view"][..], &flags].concat()).command else {
+    let Command::View { args: view, .. } =
+        Cli::parse_from([&["picomis-sim", "view"][..], &flags].concat()).command
+    else {
         panic!("not view")
     };
     let Command::Render(render) =
@@ -424,4 +437,225 @@ fn a_view_pass_renders_what_render_renders() {
         })
         .unwrap()
     );
+}
+
+#[test]
+fn the_help_groups_the_flags_under_headings() {
+    let dir = tempfile::tempdir().unwrap();
+    let help = |command: &str| String::from_utf8(run_ok(dir.path(), &[command, "--help"]).stdout).unwrap();
+    let render = help("render");
+    let headings: Vec<&str> = render.lines().filter(|l| !l.starts_with(' ') && l.ends_with(':')).collect();
+    assert_eq!(
+        headings,
+        ["Arguments:", "Options:", "Scene:", "Sampling:", "Integrator:", "MIS:", "Output:", "Performance:"],
+        "{render}"
+    );
+    // Under each heading its own flags.
+    let section = |name: &str| -> String {
+        render
+            .lines()
+            .skip_while(|l| *l != name)
+            .skip(1)
+            .take_while(|l| l.is_empty() || l.starts_with(' '))
+            .collect()
+    };
+    for (heading, flags) in [
+        ("Scene:", &["--width", "--height", "--arith"][..]),
+        ("Sampling:", &["--spp", "--seed", "--light-samples", "--bsdf-samples", "--light-selection"]),
+        ("MIS:", &["--mis <M>", "--beta", "--mis-model", "--control-variate"]),
+        ("Output:", &["-o, --out", "--digest", "--pixel <X,Y>"]),
+        ("Performance:", &["-j, --threads <N>"]),
+    ] {
+        for flag in flags {
+            assert!(section(heading).contains(flag), "{flag} under {heading}: {render}");
+        }
+    }
+    for command in ["figure", "study", "view"] {
+        assert!(help(command).contains("-j, --threads <N>"), "{command}");
+    }
+}
+
+#[test]
+fn threads_do_not_change_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |threads: &[&str], name: &str| {
+        let args = [
+            &["render", "veach_mis", "--width", "48", "--height", "32", "--spp", "3", "--digest", "-o", name]
+                [..],
+            threads,
+        ]
+        .concat();
+        let out = run_ok(dir.path(), &args);
+        let stderr = String::from_utf8(out.stderr).unwrap();
+        (String::from_utf8(out.stdout).unwrap(), stderr, read(dir.path(), name))
+    };
+    let (digest1, stderr1, one) = render(&["-j", "1"], "one.pfm");
+    let (digest2, stderr2, two) = render(&["--threads", "2"], "two.pfm");
+    assert!(digest1.starts_with("hdr-digest "), "{digest1}");
+    assert_eq!(digest1, digest2, "the digest of every pixel's estimate");
+    assert_eq!(one, two, "the image");
+    assert!(stderr1.contains(" on 1 thread -> one.pfm"), "{stderr1}");
+    assert!(stderr2.contains(" on 2 threads -> two.pfm"), "{stderr2}");
+    let (digest0, _, _) = render(&["-j", "0"], "all.pfm");
+    assert_eq!(digest0, digest1);
+    assert_eq!(files(dir.path()), ["all.pfm", "one.pfm", "two.pfm"]);
+}
+
+/// Runs `picomis-sim args` with the memory limit `limit` (bytes) in `dir`.
+fn run_with_limit(dir: &Path, args: &[&str], limit: &str) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_picomis-sim"))
+        .args(args)
+        .env("PICOMIS_MEMORY_LIMIT", limit)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn a_render_larger_than_memory_is_refused_before_it_allocates() {
+    use picomis_sim::memory::render_bytes;
+    use picomis_sim::output::Format;
+
+    let dir = tempfile::tempdir().unwrap();
+    let refused = |args: &[&str], limit: &str, reason: &str| {
+        let out = run_with_limit(dir.path(), args, limit);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            stderr.starts_with("error: ") && stderr.contains(reason),
+            "{args:?}: {stderr:?} should say {reason:?}"
+        );
+        assert_eq!(stderr.lines().count(), 1, "one line: {stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        assert!(files(dir.path()).is_empty(), "{args:?} wrote a file");
+    };
+    // The film: some 20 GB (refused here under a limit of 1 GB whatever the machine has).
+    refused(
+        &["render", "veach_mis", "--width", "16384", "--height", "16384", "-o", "big.png"],
+        "1000000000",
+        "veach_mis: a 16384x16384 render to big.png needs about ",
+    );
+    // The need is computed from the film and the format: a small render just over the limit is
+    // refused, and runs at the limit.
+    let film = picomis::Film::new(24, 16).unwrap();
+    for (name, format) in [("a.png", Format::Png), ("a.exr", Format::Exr), ("a.pfm", Format::Pfm)] {
+        let need = render_bytes(film, format);
+        let args = ["render", "box_quad", "--width", "24", "--height", "16", "--spp", "1", "-o", name];
+        refused(
+            &args,
+            &(need - 1).to_string(),
+            &format!("a 24x16 render to {name} needs about {}", picomis_sim::memory::human(need)),
+        );
+        let out = run_with_limit(dir.path(), &args, &need.to_string());
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        std::fs::remove_file(dir.path().join(name)).unwrap();
+    }
+    refused(
+        &["figure", "lambert_sphere", "--spp", "1"],
+        "1000",
+        "lambert_sphere: a figure of 6 64x48 renders needs",
+    );
+    refused(
+        &["render", "box_quad", "--spp", "1"],
+        "lots",
+        "PICOMIS_MEMORY_LIMIT=lots: expected a number of bytes",
+    );
+}
+
+/// The fields of `--pixel`'s table row `part`: [samples, found, mean weight, red, green, blue]
+/// (the pixel row has only the colour).
+fn row<'a>(table: &'a str, part: &str) -> Vec<&'a str> {
+    let line = table.lines().find(|l| l.split_whitespace().next() == Some(part)).expect(part);
+    line.split_whitespace().skip(1).collect()
+}
+
+fn rgb(fields: &[&str]) -> [f32; 3] {
+    let n = fields.len();
+    [0, 1, 2].map(|i| fields[n - 3 + i].parse::<f32>().unwrap())
+}
+
+#[test]
+fn pixel_breaks_the_estimate_down_by_technique() {
+    use picomis_sim::output::read_pfm;
+
+    let dir = tempfile::tempdir().unwrap();
+    let mut both_techniques = 0;
+    for (settings, pixels) in [
+        // The best preset (the control variate's closed form is in the light part).
+        (&["--spp", "4", "--seed", "3"][..], &[(36, 14), (36, 22), (30, 10), (12, 20)][..]),
+        // The lecture's strategies: every light by sampling, balance weights.
+        (
+            &["--spp", "5", "--preset", "lecture", "--mis", "balance"],
+            &[(30, 18), (36, 18), (20, 10), (24, 14)],
+        ),
+    ] {
+        let base = [&["render", "veach_mis", "--width", "48", "--height", "32"][..], settings].concat();
+        run_ok(dir.path(), &[&base[..], &["-o", "image.pfm"]].concat());
+        let image = read_pfm(&dir.path().join("image.pfm")).unwrap();
+        for &(x, y) in pixels {
+            let at = format!("{x},{y}");
+            let out = run_ok(dir.path(), &[&base[..], &["--pixel", &at, "-j", "1"]].concat());
+            let table = String::from_utf8(out.stdout).unwrap();
+            let title = table.lines().next().unwrap();
+            assert!(
+                title.starts_with("veach_mis: 48x32, ") && title.ends_with(&format!("; pixel ({x}, {y})")),
+                "{table}"
+            );
+            let (emitted, light, bsdf, pixel) =
+                (row(&table, "emitted"), row(&table, "light"), row(&table, "bsdf"), row(&table, "pixel"));
+            // The parts add up to the pixel's value ...
+            let (e, l, b, p) = (rgb(&emitted), rgb(&light), rgb(&bsdf), rgb(&pixel));
+            for c in 0..3 {
+                let sum = e[c] + l[c] + b[c];
+                let tolerance = 2.0 * f32::EPSILON * (e[c].abs() + l[c].abs() + b[c].abs());
+                assert!(
+                    (sum - p[c]).abs() <= tolerance,
+                    "({x}, {y}) channel {c}: {sum} != {}: {table}",
+                    p[c]
+                );
+            }
+            // ... which is the image's value there, bit for bit.
+            let v = image.get(x, y);
+            assert_eq!(p, [v.x, v.y, v.z], "({x}, {y}): {table}");
+            // Counts and weights are what the columns say.
+            let spp: u32 = settings[1].parse().unwrap();
+            assert_eq!(emitted[0], spp.to_string(), "{table}");
+            for t in [&light, &bsdf] {
+                let (drawn, found): (u32, u32) = (t[0].parse().unwrap(), t[1].parse().unwrap());
+                assert_eq!(drawn, spp, "one sample of each technique per camera sample: {table}");
+                assert!(found <= drawn, "{table}");
+                if found > 0 {
+                    let w: f32 = t[2].parse().unwrap();
+                    assert!((0.0..=1.0).contains(&w), "{table}");
+                } else {
+                    assert_eq!(t[2], "-", "{table}");
+                }
+            }
+            if l.iter().any(|&v| v > 0.0) && b.iter().any(|&v| v > 0.0) {
+                both_techniques += 1;
+            }
+        }
+    }
+    assert!(both_techniques >= 4, "most checked pixels have light from both techniques");
+
+    // No image is written; the pixel must lie on the film; it is no image, so no --out.
+    assert_eq!(files(dir.path()), ["image.pfm"]);
+    let args = ["render", "lambert_sphere", "--spp", "1"];
+    for (flags, reason) in [
+        (
+            &["--pixel", "16,0"][..],
+            "error: --pixel 16,0: outside the 16x12 film (X from 0 to 15, Y from 0 to 11)",
+        ),
+        (&["--pixel", "0,12"], "error: --pixel 0,12: outside the 16x12 film"),
+        (
+            &["--pixel", "1,1", "-o", "a.png"],
+            "the argument '--pixel <X,Y>' cannot be used with '--out <FILE>'",
+        ),
+    ] {
+        let out = run_in(dir.path(), &[&args[..], &["--height", "12"], flags].concat());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(stderr.starts_with("error: ") && stderr.contains(reason), "{flags:?}: {stderr}");
+    }
+    assert_eq!(files(dir.path()), ["image.pfm"]);
 }

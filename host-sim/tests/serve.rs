@@ -23,16 +23,17 @@ impl Drop for Server {
 }
 
 fn start(dir: &Path) -> Server {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_picomis-sim"))
-        .args(["serve", "--port", "0", "--dir"])
-        .arg(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut command = Command::new(env!("CARGO_BIN_EXE_picomis-sim"));
+    command.args(["serve", "--port", "0", "--dir"]).arg(dir);
+    start_command(command)
+}
+
+/// Starts `command` (a `serve`) and reads the address it prints.
+fn start_command(mut command: Command) -> Server {
+    let mut child = command.stdout(Stdio::piped()).stderr(Stdio::null()).spawn().unwrap();
     let mut line = String::new();
     BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
-    // "serving <dir> at http://127.0.0.1:PORT/ (Ctrl-C to stop)"
+    // "serving <dir or the built-in page> at http://127.0.0.1:PORT/ (Ctrl-C to stop)"
     let url = line.split(" at http://").nth(1).and_then(|s| s.split('/').next()).expect(&line);
     let addr: SocketAddr = url.parse().expect(&line);
     assert!(addr.ip().is_loopback(), "listens on 127.0.0.1 by default: {line}");
@@ -46,7 +47,7 @@ fn raw(addr: SocketAddr, request: &[u8]) -> (u16, String, Vec<u8>) {
     s.set_write_timeout(Some(Duration::from_secs(10))).unwrap();
     let _ = s.write_all(request);
     let mut out = Vec::new();
-    let _ = s.take(1 << 20).read_to_end(&mut out);
+    let _ = s.take(1 << 24).read_to_end(&mut out);
     let split = out.windows(4).position(|w| w == b"\r\n\r\n").expect("a response head");
     let head = String::from_utf8(out[..split].to_vec()).unwrap();
     let status = head.split(' ').nth(1).unwrap().parse().unwrap();
@@ -166,4 +167,69 @@ fn refuses_to_start_without_the_wasm() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("picomis.wasm: missing") && stderr.contains("scripts/web.sh build"), "{stderr}");
+}
+
+/// `picomis-sim serve` with no `--dir`, from a copy of the binary in a folder of its own (as
+/// installed, nowhere near the source tree): the page built into it, with its WebAssembly.
+#[test]
+fn an_installed_binary_serves_the_page_built_into_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin = dir.path().join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    let installed = bin.join("picomis-sim");
+    std::fs::copy(env!("CARGO_BIN_EXE_picomis-sim"), &installed).unwrap();
+    let mut command = Command::new(&installed);
+    command.args(["serve", "--port", "0"]).current_dir(dir.path());
+    let Ok(wasm) = picomis_sim::page::wasm() else {
+        // Built without the wasm32-unknown-unknown target: one line saying how to get it.
+        let out = command.output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains("rustup target add wasm32-unknown-unknown"), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        return;
+    };
+    assert!(wasm.starts_with(b"\0asm"), "a WebAssembly module");
+    let server = start_command(command);
+    let web = Path::new(env!("CARGO_MANIFEST_DIR")).join("../web");
+    for (target, file, ctype) in [
+        ("/", "index.html", "text/html; charset=utf-8"),
+        ("/index.html?scene=veach_mis", "index.html", "text/html; charset=utf-8"),
+        ("/main.js", "main.js", "text/javascript; charset=utf-8"),
+        ("/worker.js", "worker.js", "text/javascript; charset=utf-8"),
+        ("/style.css", "style.css", "text/css; charset=utf-8"),
+    ] {
+        let (status, head, body) = get(server.addr, target);
+        assert_eq!(status, 200, "{target}: {head}");
+        assert!(head.contains(&format!("\r\nContent-Type: {ctype}\r\n")), "{target}: {head}");
+        assert_eq!(body, std::fs::read(web.join(file)).unwrap(), "{target}: the page as web/ holds it");
+    }
+    let (status, head, body) = get(server.addr, "/picomis.wasm");
+    assert_eq!(status, 200, "{head}");
+    assert!(head.contains("\r\nContent-Type: application/wasm\r\n"), "{head}");
+    assert!(body == wasm, "served {} bytes, built in {} bytes", body.len(), wasm.len());
+    for target in
+        ["/../Cargo.toml", "/wasm/Cargo.toml", "/%2e%2e/web/index.html", "/.hidden", "/sub/", "/x.html"]
+    {
+        let (status, head, _) = get(server.addr, target);
+        assert!([400, 403, 404].contains(&status), "{target}: {head}");
+    }
+}
+
+/// The page built into the binary is what `web/` holds: every page file (HTML, scripts, style).
+#[test]
+fn every_page_file_is_built_in() {
+    let web = Path::new(env!("CARGO_MANIFEST_DIR")).join("../web");
+    let mut on_disk: Vec<String> = std::fs::read_dir(&web)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| [".html", ".js", ".css"].iter().any(|ext| n.ends_with(ext)))
+        .collect();
+    on_disk.sort();
+    let mut built_in: Vec<String> = picomis_sim::page::FILES.iter().map(|(n, _)| n.to_string()).collect();
+    built_in.sort();
+    assert_eq!(built_in, on_disk, "host-sim/src/page.rs: FILES lists web/'s page files");
+    for (name, bytes) in picomis_sim::page::FILES {
+        assert_eq!(bytes, std::fs::read(web.join(name)).unwrap(), "{name}");
+    }
 }

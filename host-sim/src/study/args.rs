@@ -28,7 +28,8 @@ pub struct StudyArgs {
     /// Samples per pixel of the reference (default: the larger of 1024 and 32 x --max-spp).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=10_000_000))]
     pub ref_spp: Option<u32>,
-    /// Mitsuba 3 reference of the Veach scene (default: the copy in the repository, if any).
+    /// Mitsuba 3 reference of the Veach scene (default: the one built into picomis-sim, from
+    /// host-sim/tests/data/veach_mis.ref.exr).
     #[arg(long, value_name = "FILE.exr")]
     pub mitsuba_ref: Option<PathBuf>,
     /// Measure the error of the full radiance (lights seen directly included).

@@ -14,7 +14,7 @@ use picomis_host::HostScene;
 use super::measure::{self, timed};
 use super::metrics::{ErrorStats, REL_EPSILON, downsample};
 use crate::SimError;
-use crate::output::{Format, Image, encode, read_exr, write_atomic};
+use crate::output::{Format, Image, decode_exr, encode, read_exr, write_atomic};
 use crate::render::progress_bar;
 use crate::scenes::{Loaded, find_builtin};
 
@@ -244,27 +244,18 @@ pub fn get(
     Ok(Reference { spp, reflected, full, noise, seconds, cached: false, key })
 }
 
-/// Where the repository keeps the Mitsuba 3 reference of the Veach scene.
-fn mitsuba_candidates() -> Vec<PathBuf> {
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
-    vec![
-        manifest.join("tests/data/veach_mis.ref.exr"),
-        manifest.join("../tests/data/veach_mis.ref.exr"),
-        manifest.join("../scenes/veach_mis.ref.exr"),
-    ]
-}
+/// The Mitsuba 3 reference of the built-in Veach scene (`host-sim/tests/data`), built into the
+/// binary like the scene itself, so that an installed `picomis-sim study` compares with it too.
+const VEACH_MITSUBA: &[u8] = include_bytes!("../../tests/data/veach_mis.ref.exr");
 
 /// The Mitsuba 3 reference of the Veach scene at `w` x `h` (box-filtered down by an integer
-/// factor if it is larger), or why there is none.
+/// factor if it is larger), or why there is none: the EXR file at `path`, by default the one
+/// built into the binary.
 pub fn mitsuba(path: Option<&Path>, w: u32, h: u32) -> Result<Vec<Rgb>, String> {
-    let path = match path {
-        Some(p) => p.to_path_buf(),
-        None => mitsuba_candidates()
-            .into_iter()
-            .find(|p| p.is_file())
-            .ok_or_else(|| "veach_mis.ref.exr not found in host-sim/tests/data or tests/data".to_string())?,
+    let (img, path) = match path {
+        Some(p) => (read_exr(p)?, p.display().to_string()),
+        None => (decode_exr(VEACH_MITSUBA)?, "the built-in Mitsuba 3 reference".to_string()),
     };
-    let img = read_exr(&path)?;
     if img.width == w && img.height == h {
         return Ok(img.data);
     }
@@ -272,10 +263,5 @@ pub fn mitsuba(path: Option<&Path>, w: u32, h: u32) -> Result<Vec<Rgb>, String> 
     if k >= 1 && img.width == k * w && img.height == k * h {
         return Ok(downsample(&img.data, img.width, img.height, k));
     }
-    Err(format!(
-        "{}: {}x{} is not a multiple of the study film {w}x{h}",
-        path.display(),
-        img.width,
-        img.height
-    ))
+    Err(format!("{path}: {}x{} is not a multiple of the study film {w}x{h}", img.width, img.height))
 }
