@@ -4,7 +4,9 @@
 //! - [`stats`]: [`Stats`], running mean and standard error (Welford, f64), and [`assert_unbiased`] /
 //!   [`check_unbiased`], the z-test every unbiasedness check goes through (|mean - exact| <
 //!   4 stderr, and the stderr must be small enough for the check to be able to fail), with
-//!   [`check_agreement`] for two estimates of a value that has no closed form;
+//!   [`check_agreement`] for two estimates of a value that has no closed form; [`MeanEstimate`]
+//!   and [`check_mean`], the same test for a standard error with few degrees of freedom (the
+//!   spread of independent scrambles: Student's t at the level of 4 sigma, [`z_threshold`]);
 //! - [`chi2`](mod@chi2): [`chi2_pooled`] / [`assert_chi2`], Pearson's chi-square with Mitsuba's
 //!   pooling of cells with fewer than 5 expected samples and a Sidak-corrected significance level;
 //! - [`histogram`](mod@histogram): [`Histogram2d`], a chart of the sample space on [0, 1)^2 binned
@@ -15,7 +17,9 @@
 //!   [`lambert_polygon_irradiance`], [`polygon_solid_angle`], [`cone_measure`];
 //! - [`scenes`]: scene builders [`camera`], [`quad_corners`], [`shading_hit`], and
 //!   [`direct_stats`], [`heuristics`] (in the host's scene type, [`picomis_host::HostScene`]:
-//!   their settings are chosen at run time);
+//!   their settings are chosen at run time); [`direct_run`] and [`trace_run`], which split a
+//!   sobol run into [`SCRAMBLES`] independent scrambles so that its standard error is that of
+//!   randomised quasi-Monte Carlo ([`RunStats::estimate`]), not the independent-sample formula;
 //! - [`strategies`]: [`LightChoices`], light strategies named at run time, and
 //!   [`LightChoices::visit`], which calls a [`VisitLights`] with them as types (the kernel's light
 //!   sampler is generic over them).

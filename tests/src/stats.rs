@@ -3,6 +3,7 @@
 //! form and [`check_agreement`] of two estimates of a value that has no closed form.
 
 use picomis::Rgb;
+use statrs::distribution::{ContinuousCDF, StudentsT};
 
 /// Running mean and variance of a stream of samples (Welford's algorithm, f64), with the third
 /// and fourth central moments (Terriberry's and Pebay's updates) for the standard error of the
@@ -100,6 +101,13 @@ impl RgbStats {
         }
     }
 
+    /// Adds the means of `other`'s three channels as one sample each (the mean of a replica).
+    pub fn push_means(&mut self, other: &RgbStats) {
+        for (s, o) in self.0.iter_mut().zip(&other.0) {
+            s.push(o.mean());
+        }
+    }
+
     /// Adds all samples of `other`.
     pub fn merge(&mut self, other: &RgbStats) {
         for (s, o) in self.0.iter_mut().zip(&other.0) {
@@ -160,6 +168,115 @@ pub fn check_z(
         ));
     }
     Ok(())
+}
+
+/// Two-sided tail probability of |z| > 4 for a standard normal z: the level of every z-test here.
+pub const Z_LEVEL: f64 = 6.334_248_366_623_996e-5;
+
+/// The threshold on |mean - exact| / stderr of a z-test whose standard error has `dof` degrees of
+/// freedom, at the two-sided level [`Z_LEVEL`] (|z| > 4 for a normal z): Student's t quantile,
+/// which is 4 for many degrees of freedom and more for few (4.62 for 31, the standard error of 32
+/// independent scrambles).
+pub fn z_threshold(dof: f64) -> f64 {
+    if dof.is_nan() || dof >= 1e6 {
+        return 4.0;
+    }
+    StudentsT::new(0.0, 1.0, dof.max(1.0)).map_or(f64::INFINITY, |t| t.inverse_cdf(1.0 - Z_LEVEL / 2.0))
+}
+
+/// An estimate of a mean with its standard error and that error's degrees of freedom: from
+/// independent samples ([`MeanEstimate::of_samples`], the per-sample formula), or from the means
+/// of independent replicas ([`MeanEstimate::of_replicas`]: the spread of the replicas' means,
+/// valid however the samples within a replica are correlated, as those of one scrambled Sobol
+/// sequence are).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeanEstimate {
+    /// The mean of all samples.
+    pub mean: f64,
+    /// Its standard error.
+    pub stderr: f64,
+    /// The number of samples.
+    pub n: u64,
+    /// Degrees of freedom of the standard error.
+    pub dof: f64,
+}
+
+impl MeanEstimate {
+    /// The mean of independent samples, with the standard error sqrt(s^2 / n).
+    pub fn of_samples(s: &Stats) -> Self {
+        MeanEstimate { mean: s.mean(), stderr: s.stderr(), n: s.n(), dof: s.n().saturating_sub(1) as f64 }
+    }
+
+    /// The mean of `samples` samples taken as replicas of equal size whose means are `means`
+    /// (independent randomisations): the standard error of the mean of the replicas' means, with
+    /// one degree of freedom fewer than there are replicas.
+    pub fn of_replicas(means: &Stats, samples: u64) -> Self {
+        MeanEstimate {
+            mean: means.mean(),
+            stderr: means.stderr(),
+            n: samples,
+            dof: means.n().saturating_sub(1) as f64,
+        }
+    }
+
+    /// The same estimate times `k` (an injected bias of k - 1; its standard error scales too).
+    pub fn scaled(self, k: f64) -> Self {
+        MeanEstimate { mean: k * self.mean, stderr: k * self.stderr, ..self }
+    }
+
+    /// (mean - exact) / stderr (0 for a zero standard error).
+    pub fn z(&self, exact: f64) -> f64 {
+        if self.stderr > 0.0 { (self.mean - exact) / self.stderr } else { 0.0 }
+    }
+}
+
+/// The z-test of [`check_z`] for a [`MeanEstimate`] against a closed form: |mean - exact| within
+/// [`z_threshold`] standard errors (for the estimate's degrees of freedom) plus [`F32_ROUNDING`],
+/// with the standard error at most `max_rel_stderr` of the value. Returns the z-score.
+pub fn check_mean(label: &str, est: &MeanEstimate, exact: f64, max_rel_stderr: f64) -> Result<f64, String> {
+    let exact = MeanEstimate { mean: exact, stderr: 0.0, n: 0, dof: f64::INFINITY };
+    check_means(label, est, &exact, max_rel_stderr)
+}
+
+/// [`check_mean`] against another estimate of the same value (`reference`, independent of
+/// `est`): the standard errors combine, sqrt(se^2 + se_reference^2), with the fewer degrees of
+/// freedom of the two (Student's t is then conservative), and the combined error must be at most
+/// `max_rel_stderr` of the reference. Returns the z-score.
+pub fn check_means(
+    label: &str,
+    est: &MeanEstimate,
+    reference: &MeanEstimate,
+    max_rel_stderr: f64,
+) -> Result<f64, String> {
+    let exact = reference.mean;
+    let (mean, n) = (est.mean, est.n);
+    let se = est.stderr.hypot(reference.stderr);
+    let dof = if reference.stderr > 0.0 { est.dof.min(reference.dof) } else { est.dof };
+    if !(exact.is_finite() && exact != 0.0 && reference.stderr.is_finite()) {
+        return Err(format!(
+            "{label}: reference {exact} (stderr {}) is not a usable reference",
+            reference.stderr
+        ));
+    }
+    if !(mean.is_finite() && se.is_finite()) {
+        return Err(format!("{label}: mean {mean}, stderr {se} after {n} samples"));
+    }
+    if se > max_rel_stderr * exact.abs() {
+        return Err(format!(
+            "{label}: stderr {se:.3e} is {:.2}% of the exact value {exact:.6e}: too noisy for a meaningful test",
+            100.0 * se / exact.abs()
+        ));
+    }
+    let threshold = z_threshold(dof);
+    let z = if se > 0.0 { (mean - exact) / se } else { 0.0 };
+    if (mean - exact).abs() > threshold * se + F32_ROUNDING * exact.abs() {
+        return Err(format!(
+            "{label}: mean {mean:.6e} vs exact {exact:.6e} (rel. error {:+.3e}), stderr {se:.3e} ({dof} degrees \
+             of freedom), z = {z:.2} beyond {threshold:.2}, n = {n}",
+            (mean - exact) / exact
+        ));
+    }
+    Ok(z)
 }
 
 /// Asserts [`check_unbiased`].
@@ -228,6 +345,30 @@ mod tests {
         let mut c = Stats::new();
         (0..100).for_each(|_| c.push(2.0));
         assert_eq!(c.variance_stderr(), 0.0);
+    }
+
+    #[test]
+    fn z_threshold_is_students_t_at_the_level_of_four_sigma() {
+        assert_eq!(z_threshold(f64::INFINITY), 4.0);
+        assert!((z_threshold(1e5) - 4.0).abs() < 1e-3, "{}", z_threshold(1e5));
+        // Student's t with 31 degrees of freedom: P(|T| > 4.62) = 6.3e-5.
+        let t31 = z_threshold(31.0);
+        assert!((4.55..4.7).contains(&t31), "{t31}");
+        assert!(z_threshold(7.0) > t31);
+    }
+
+    #[test]
+    fn check_mean_catches_an_injected_bias_that_check_z_of_the_same_data_would_pass() {
+        // 32 replica means spread by 1e-3 around 1 (the error of the mean: 1.8e-4), while the
+        // samples themselves spread by 0.1 (an independent-sample standard error of 1e-2 / 16).
+        let mut means = Stats::new();
+        for j in 0..32 {
+            means.push(1.0 + 1e-3 * (f64::from(j % 4) - 1.5));
+        }
+        let est = MeanEstimate::of_replicas(&means, 32 * 6250);
+        assert!(check_mean("unbiased", &est, 1.0, 0.02).is_ok());
+        let biased = est.scaled(1.01);
+        assert!(check_mean("biased", &biased, 1.0, 0.02).unwrap_err().contains("beyond"));
     }
 
     #[test]

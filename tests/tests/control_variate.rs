@@ -10,11 +10,16 @@
 //!    variate (its closed form is the light technique's part): the settings refuse it.
 //! 3. Camera rays through `trace` (what the images are made of): with and without the control
 //!    variate the pixels converge to the same values.
+//! 4. The control variate by its rule (`ControlVariate::Auto`, the best preset's): in a scene of
+//!    area lights only it is `On`, bit for bit; beside a point light it covers only the lights the
+//!    shadow cull says nothing can block, it agrees with the plain estimator under every light
+//!    selection, heuristic and model, and where every sampled light is unblocked the estimate is
+//!    exact (zero variance: selection by contribution gives the exact lights no samples).
 
 use picomis::integrator::{quad_projected_solid_angle, sphere_projected_solid_angle};
 use picomis::{
-    ControlVariate, Film, Heuristic, Hit, Material, Method, MisModel, QuadSampling, Ray, RenderSettings, Rgb,
-    Scene, SceneError, Shape, Vec3,
+    ControlVariate, Film, Heuristic, Hit, LightId, LightSelection, Material, Method, MisModel, QuadSampling,
+    Ray, RenderSettings, Rgb, Scene, SceneError, Shape, ShapeId, Vec3,
 };
 use picomis_host::HostScene;
 use picomis_tests::{
@@ -293,5 +298,119 @@ fn pixels_converge_to_the_same_values() {
             );
             check_agreement(&label, &on.0[c], &off.0[c], MAX_REL_STDERR).unwrap();
         }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. The control variate by its rule
+
+/// The quad light nothing can block from the floor: low and off to the side, under everything
+/// else (facing down).
+fn low_quad() -> [Vec3; 4] {
+    quad_corners(Vec3::new(3.0, 0.5, -0.5), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0))
+}
+
+const POINT: Vec3 = Vec3::new(-1.5, 3.0, -1.0);
+const POINT_INTENSITY: f32 = 4.0;
+/// A point light below the quad light's height (0.5): no shadow ray from the floor to it can
+/// meet the quad.
+const LOW_POINT: Vec3 = Vec3::new(-1.5, 0.4, -1.0);
+const LOW_RADIANCE: f32 = 2.0;
+
+/// Whether the shadow cull says that nothing can block `light` from the floor (object 0).
+fn unblocked(s: &S, light: usize) -> bool {
+    s.shadow_candidates(ShapeId::new(0), LightId::new(light as u16)) == 0
+}
+
+#[test]
+fn auto_is_on_where_every_light_is_an_area_light() {
+    let s = shadowed_scene();
+    // (Both lights may be blocked: `auto` then covers and samples what `on` does.)
+    assert!(!unblocked(&s, 0) && !unblocked(&s, 1));
+    for method in
+        [Method::Mis(Heuristic::Balance), Method::Mis(Heuristic::Power { beta: 2.0 }), Method::LightOnly]
+    {
+        let on = total(&s, &settings(method, MisModel::Multi, ControlVariate::On), 40, 2000);
+        let auto = total(&s, &settings(method, MisModel::Multi, ControlVariate::Auto), 40, 2000);
+        assert_eq!((auto.mean(), auto.variance()), (on.mean(), on.variance()), "{method:?}");
+    }
+}
+
+#[test]
+fn auto_beside_a_point_light_is_unbiased() {
+    // The shadowed scene, a point light, and a quad light nothing can block: `auto` covers the
+    // unblocked quad only (exact, no samples under selection by contribution) and samples the rest.
+    let mut s = shadowed_scene();
+    let black = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
+    let low = s.add_shape(Shape::quad(low_quad()).unwrap(), black).unwrap();
+    s.add_area_light(low, Rgb::splat(LOW_RADIANCE)).unwrap();
+    s.add_point_light(POINT, Rgb::splat(POINT_INTENSITY)).unwrap();
+    assert_eq!(s.lights().len(), 4);
+    assert!(!unblocked(&s, 0) && !unblocked(&s, 1) && unblocked(&s, 2), "the scene tests what it says");
+    let plain = settings(Method::Mis(Heuristic::Balance), MisModel::Multi, ControlVariate::Off);
+    let reference = total(&s, &plain.with_light_selection(LightSelection::Uniform), 1, 8 * N);
+    let mut stream = 100;
+    for selection in LightSelection::ALL {
+        for model in [MisModel::Multi, MisModel::One { c_light: 0.5 }] {
+            for method in [
+                Method::LightOnly,
+                Method::Mis(Heuristic::Balance),
+                Method::Mis(Heuristic::Power { beta: 2.0 }),
+            ] {
+                let st = settings(method, model, ControlVariate::Auto).with_light_selection(selection);
+                let auto = total(&s, &st, stream, N / 2);
+                stream += 1;
+                let label = format!("auto, {} selection, {model:?} {method:?}", selection.name());
+                println!(
+                    "{label}: {:.5e} ± {:.1e} (reference {:.5e} ± {:.1e})",
+                    auto.mean(),
+                    auto.stderr(),
+                    reference.mean(),
+                    reference.stderr()
+                );
+                check_agreement(&label, &auto, &reference, MAX_REL_STDERR).unwrap();
+            }
+        }
+    }
+}
+
+#[test]
+fn unblocked_lights_beside_a_point_light_are_exact() {
+    // A floor, the unblocked quad and an unblocked point light. `auto` takes the quad in closed
+    // form; selection by contribution then draws the point light only: one deterministic sample.
+    let mut s: S = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
+    let white = s.add_material(Material::lambertian(Rgb::splat(RHO)).unwrap()).unwrap();
+    let black = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
+    s.add_shape(Shape::quad(floor_corners(50.0)).unwrap(), white).unwrap();
+    let low = s.add_shape(Shape::quad(low_quad()).unwrap(), black).unwrap();
+    s.add_area_light(low, Rgb::splat(LOW_RADIANCE)).unwrap();
+    s.add_point_light(LOW_POINT, Rgb::splat(POINT_INTENSITY)).unwrap();
+    assert!(
+        unblocked(&s, 0),
+        "the quad light is unblocked: {:#b}",
+        s.shadow_candidates(ShapeId::new(0), LightId::new(0))
+    );
+    assert!(
+        unblocked(&s, 1),
+        "the point light is unblocked: {:#b}",
+        s.shadow_candidates(ShapeId::new(0), LightId::new(1))
+    );
+    let d = d3(LOW_POINT);
+    let point = f64::from(POINT_INTENSITY) * d.normalize().dot(DVec3::Y) / d.length_squared();
+    let quad = f64::from(LOW_RADIANCE) * quad_quadrature(DVec3::ZERO, DVec3::Y, low_quad().map(d3));
+    let exact = f64::from(RHO) / PI * (quad + point);
+    for method in
+        [Method::Mis(Heuristic::Power { beta: 2.0 }), Method::Mis(Heuristic::Balance), Method::LightOnly]
+    {
+        let st = settings(method, MisModel::Multi, ControlVariate::Auto)
+            .with_light_selection(LightSelection::Contribution);
+        let auto = total(&s, &st, 600, 1000);
+        assert_eq!(auto.variance(), 0.0, "{method:?}: no noise");
+        assert!((auto.mean() / exact - 1.0).abs() < 1e-5, "{method:?}: {} vs {exact}", auto.mean());
+        // Uniform selection still draws the exact light (its samples add f (V - 1) = 0): noise,
+        // the same mean.
+        let uniform = total(&s, &st.with_light_selection(LightSelection::Uniform), 601, N / 4);
+        assert!(uniform.variance() > 0.0, "{method:?}: uniform selection draws either light");
+        assert_unbiased(&format!("{method:?}, uniform selection"), &uniform, exact, MAX_REL_STDERR);
     }
 }

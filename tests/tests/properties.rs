@@ -22,7 +22,9 @@
 //!    non-negative, sampled ones positive; each technique's pdf is positive wherever the other
 //!    one found light it can produce (a light hit by a BSDF ray has a light pdf, a light sample
 //!    with f > 0 has a BSDF pdf); re-evaluated at the sample, a light sample's pdf is the
-//!    sample's own (exactly for the cone) and a BSDF sample's pdf and weight are eval_pdf's (to
+//!    sample's own (exactly for the cone; with lobe mixing, by the light sampler of the settings'
+//!    strategies, the mixture's, its lobe part included: a test double whose pdf leaves that part
+//!    out fails, `a_mixture_pdf_without_the_lobe_part_fails`) and a BSDF sample's pdf and weight are eval_pdf's (to
 //!    the rounding of the direction, see [`check_bsdf_sample`]); the weights of every heuristic
 //!    on these q = n p are in [0, 1], 0 where q = 0 and sum to 1 (within 1e-5) wherever some
 //!    q > 0; and each sample's weighted contribution, computed as the estimator does, is finite
@@ -43,8 +45,9 @@ use embedded_graphics_core::geometry::{OriginDimensions, Size};
 use embedded_graphics_core::pixelcolor::{Rgb888, RgbColor};
 use embedded_graphics_core::primitives::{PointsIter, Rectangle};
 use picomis::integrator::{control_variate, model};
-use picomis::light::LightStrategies;
-use picomis::light::lobe::Lobe;
+use picomis::light::lobe::{self, LOBE_SHARE, LobeSampler};
+use picomis::light::sphere::SphereSampler;
+use picomis::light::{LightStrategies, Lights};
 use picomis::num::Frame;
 use picomis::sampling::{sample_cosine_hemisphere, sample_uniform_sphere};
 use picomis::{
@@ -81,12 +84,31 @@ fn check_property<T: Strategy>(cases: u32, strategy: T, test: impl Fn(T::Value) 
 where
     T::Value: std::fmt::Debug,
 {
-    let config =
-        Config { cases, failure_persistence: None, rng_algorithm: RngAlgorithm::ChaCha, ..Config::default() };
-    let rng = TestRng::from_seed(RngAlgorithm::ChaCha, &[0x57; 32]);
-    if let Err(e) = TestRunner::new_with_rng(config, rng).run(&strategy, test) {
+    if let Err(e) = run_property(cases, u32::MAX, strategy, test) {
         panic!("{e}");
     }
+}
+
+/// [`check_property`] returning the failure (after at most `shrink` shrinking steps) instead of
+/// panicking: for the tests that show a property can fail.
+fn run_property<T: Strategy>(
+    cases: u32,
+    shrink: u32,
+    strategy: T,
+    test: impl Fn(T::Value) -> TestCaseResult,
+) -> Result<(), String>
+where
+    T::Value: std::fmt::Debug,
+{
+    let config = Config {
+        cases,
+        max_shrink_iters: shrink,
+        failure_persistence: None,
+        rng_algorithm: RngAlgorithm::ChaCha,
+        ..Config::default()
+    };
+    let rng = TestRng::from_seed(RngAlgorithm::ChaCha, &[0x57; 32]);
+    TestRunner::new_with_rng(config, rng).run(&strategy, test).map_err(|e| e.to_string())
 }
 
 /// Counts of what the cases exercised, so that a property that checks nothing fails.
@@ -405,10 +427,20 @@ fn local_wo(rng: &mut Sampler) -> Vec3 {
 }
 
 /// Checks the pdfs and weights at `points` random points on each object of `scene`, with the
-/// light sampler of the settings' selection, sphere and quad sampling (and no lobe mixing).
+/// light sampler of the settings' strategies (selection, sphere and quad sampling, lobe mixing).
 fn check_pdfs(scene: &S, settings: &RenderSettings, points: u32, tally: &Tally) -> TestCaseResult {
-    let choices = LightChoices::of(settings).with_lobe_mixing(LobeMixing::Off);
-    choices.visit(PdfCheck { scene, settings, points, tally })
+    LightChoices::of(settings).visit(PdfCheck { scene, settings, points, tally, lobe_pdf: LobePdf::Kept })
+}
+
+/// Whether the light pdf the check re-evaluates is the light sampler's own, or a broken one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LobePdf {
+    /// `LightSampler::pdf`: with lobe mixing, the mixture's.
+    Kept,
+    /// A test double of a wrong mixture: where the lobe joins the light samples, the samples are
+    /// the mixture's but the pdf leaves out the lobe's part, (1 - LOBE_SHARE) p_light only (the
+    /// light's own pdf read from the same strategies without lobe mixing). The check must fail.
+    LeftOut,
 }
 
 /// [`check_pdfs`] with its light sampler's strategies as a type.
@@ -417,18 +449,49 @@ struct PdfCheck<'a> {
     settings: &'a RenderSettings,
     points: u32,
     tally: &'a Tally,
+    lobe_pdf: LobePdf,
 }
+
+/// The light strategies `Lt` without lobe mixing: the light's own part of the mixture.
+type OwnPart<Lt> = Lights<
+    <Lt as LightStrategies<HOST_LIGHTS>>::Selection,
+    <Lt as LightStrategies<HOST_LIGHTS>>::Spheres,
+    <Lt as LightStrategies<HOST_LIGHTS>>::Quads,
+    lobe::Off,
+>;
 
 impl VisitLights<HOST_LIGHTS> for PdfCheck<'_> {
     type Output = TestCaseResult;
     fn visit<Lt: LightStrategies<HOST_LIGHTS>>(self) -> TestCaseResult {
-        check_pdfs_with(&Sampling::<Lt>::new(self.scene), self.settings, self.points, self.tally)
+        let lights = Sampling::<Lt>::new(self.scene);
+        let (settings, points, tally) = (self.settings, self.points, self.tally);
+        match self.lobe_pdf {
+            LobePdf::Kept => {
+                check_pdfs_with(&lights, &|l, at, y| lights.pdf(l, at, y), settings, points, tally)
+            }
+            LobePdf::LeftOut => {
+                let own = Sampling::<OwnPart<Lt>>::new(self.scene);
+                let pdf = |l: LightId, at: &ShadingPoint, y: &SurfacePoint| {
+                    let shape = self.scene.light(l).and_then(|light| self.scene.light_shape(light));
+                    match shape.and_then(|shape| Lt::Lobe::towards::<Lt::Spheres, Lt::Quads>(shape, at)) {
+                        Some(_) => (1.0 - LOBE_SHARE) * own.pdf(l, at, y),
+                        None => lights.pdf(l, at, y),
+                    }
+                };
+                check_pdfs_with(&lights, &pdf, settings, points, tally)
+            }
+        }
     }
 }
 
-/// [`check_pdfs`] with the light sampler `lights`.
+/// The light pdf a check re-evaluates: light, shading point, the point found on the light.
+type LightPdf<'a> = dyn Fn(LightId, &ShadingPoint, &SurfacePoint) -> f32 + 'a;
+
+/// [`check_pdfs`] with the light sampler `lights` drawing the light samples and `light_pdf` evaluating
+/// the light technique's pdf (`lights.pdf`, but for the test double of [`LobePdf::LeftOut`]).
 fn check_pdfs_with<Lt: LightStrategies<HOST_LIGHTS>>(
     lights: &Sampling<'_, Lt>,
+    light_pdf: &LightPdf<'_>,
     settings: &RenderSettings,
     points: u32,
     tally: &Tally,
@@ -486,7 +549,7 @@ fn check_pdfs_with<Lt: LightStrategies<HOST_LIGHTS>>(
                     if let Some((i, light)) = emitter {
                         prop_assert_eq!(light, chosen.light, "{}: the sample's emitter", what);
                         let shape = &scene.objects()[i.index()].shape;
-                        tally.add(check_sample_pdf(lights, shape, light, &point, &ls, settings, &what)?);
+                        tally.add(check_sample_pdf::<Lt>(light_pdf, shape, light, &point, &ls, &what)?);
                     }
                     if f != Rgb::ZERO {
                         tally.add("light sample with f > 0");
@@ -502,7 +565,7 @@ fn check_pdfs_with<Lt: LightStrategies<HOST_LIGHTS>>(
             tally.add(check_bsdf_sample(&material, wo, &bs, &what)?);
             let ray = Ray { origin: p, dir: frame.to_world(bs.wi) };
             if let Some((hit, light, radiance)) = scene.emitter_hit(&ray, object) {
-                let p_light = lights.pmf(&shading, light) * lights.pdf(light, &point, &hit.point);
+                let p_light = lights.pmf(&shading, light) * light_pdf(light, &point, &hit.point);
                 prop_assert!(pdf_ok(p_light), "{what}: light pdf {p_light} at {hit:?}");
                 if radiance != Rgb::ZERO {
                     prop_assert!(
@@ -565,30 +628,33 @@ fn check_bsdf_sample(
     })
 }
 
-/// The pdf of a light sample re-evaluated by `LightSampler::pdf` at the point it found equals the
-/// sample's own pdf: exactly for the cone (it depends on the shading point only), to rounding of
-/// the re-constructed point for area sampling (checked where that rounding is below 1%).
+/// The pdf of a light sample re-evaluated by `LightSampler::pdf` (`pdf`) at the point it found
+/// equals the sample's own pdf: exactly for the cone (it depends on the shading point only), to
+/// rounding of the re-constructed point for area sampling (checked where that rounding is below
+/// 1%), and where the receiver's lobe joins the light samples (the strategies `Lt` name lobe
+/// mixing), to the rounding of the direction through the lobe: the mixture's pdf, the lobe's part
+/// included.
 fn check_sample_pdf<Lt: LightStrategies<HOST_LIGHTS>>(
-    lights: &Sampling<'_, Lt>,
+    pdf: &LightPdf<'_>,
     shape: &Shape,
     light: LightId,
     at: &ShadingPoint,
     ls: &picomis::LightSample,
-    settings: &RenderSettings,
     what: &str,
 ) -> Result<&'static str, TestCaseError> {
-    let (p, spheres) = (at.p, settings.sphere_sampling());
+    let p = at.p;
     let yp = p + ls.wi * ls.distance;
     let y = SurfacePoint { p: yp, n: shape.normal_at(yp) };
-    let again = lights.pdf(light, at, &y);
+    let again = pdf(light, at, &y);
     prop_assert!(pdf_ok(again), "{what}: light_pdf {again}");
     let outside = |(c, r): (Vec3, f32)| (c - p).length_squared() > r * r;
     // With lobe mixing at a GGX receiver, the lobe's part of the pdf depends on the direction:
     // re-evaluated from the point, to the rounding of the direction through the GGX lobe (at
     // most 1/alpha per unit of angle), plus the light's own part's rounding.
-    let by_lobe = settings.lobe_mixing() == LobeMixing::On
-        && Lobe::towards::<Lt::Spheres, Lt::Quads>(shape, p, at.n, at.wo, &at.bsdf).is_some();
-    let by_cone = spheres == SphereSampling::Cone && shape.as_sphere().is_some_and(outside) && !by_lobe;
+    let by_lobe = Lt::Lobe::towards::<Lt::Spheres, Lt::Quads>(shape, at).is_some();
+    let by_cone = <Lt::Spheres as SphereSampler>::KIND == SphereSampling::Cone
+        && shape.as_sphere().is_some_and(outside)
+        && !by_lobe;
     let cos_y = y.n.dot(-ls.wi);
     // Rounding of the re-constructed point (~1e-7 of the coordinates) moves the pdf
     // p_A d^2 / cos(theta_y) by about that error over the distance, and over the radius
@@ -632,7 +698,7 @@ fn pdfs_are_finite_and_weights_partition_unity() {
     tally.require(&[
         ("light sample with f > 0", 15_000),
         ("light sample pdf re-evaluated (cone)", 13_000),
-        ("light sample pdf re-evaluated (lobe mixing)", 1_500),
+        ("light sample pdf re-evaluated (lobe mixing)", 1_000),
         ("light sample pdf re-evaluated (area)", 20_000),
         ("BSDF sample hitting a light", 6_000),
         ("BSDF sample hitting a light, GGX alpha < 1e-3", 600),
@@ -640,6 +706,29 @@ fn pdfs_are_finite_and_weights_partition_unity() {
         ("BSDF sample re-evaluated, GGX alpha < 1e-2", 15_000),
     ]);
 }
+/// The lobe-mixing check above can fail: with the test double of a mixture whose pdf leaves out
+/// the lobe's part ([`LobePdf::LeftOut`]), on the same random scenes with lobe mixing on, the
+/// re-evaluated pdf of a lobe-mixing light sample disagrees with the sample's own.
+#[test]
+fn a_mixture_pdf_without_the_lobe_part_fails() {
+    let on = settings().prop_map(|s| s.with_lobe_mixing(LobeMixing::On));
+    let tally = Tally::default();
+    let result = run_property(400, 0, (scene_spec(), on), |(spec, settings)| {
+        let Some(scene) = build(&spec, 4, 4) else { return Ok(()) };
+        let check = PdfCheck {
+            scene: &scene,
+            settings: &settings,
+            points: 32,
+            tally: &tally,
+            lobe_pdf: LobePdf::LeftOut,
+        };
+        LightChoices::of(&settings).visit(check)
+    });
+    println!("{result:?}");
+    let failure = result.expect_err("a mixture pdf without the lobe's part must fail the check");
+    assert!(failure.contains("lobe-mixing pdf"), "failed, but not on the mixture's pdf: {failure}");
+}
+
 /// The point lights of a scene carry no pdf: `LightSampler::pdf` is 0 for them.
 #[test]
 fn point_lights_have_no_light_pdf() {
