@@ -38,22 +38,6 @@ const BOARDS: [Board; 3] = [
     Board { name: "fe310", memory: "fe310.x", qemu_machine: "sifive_e", width: 64, height: 48 },
 ];
 
-/// The soft-float routines of src/softfloat/rv32.s (`__wrap_<name>`), linked over the library's.
-const RV32_SOFT_FLOAT: [&str; 12] = [
-    "__addsf3",
-    "__subsf3",
-    "__mulsf3",
-    "__divsf3",
-    "__floatunsisf",
-    "__eqsf2",
-    "__nesf2",
-    "__ltsf2",
-    "__lesf2",
-    "__gtsf2",
-    "__gesf2",
-    "__unordsf2",
-];
-
 fn var(name: &str) -> Option<String> {
     println!("cargo:rerun-if-env-changed={name}");
     env::var(name).ok().filter(|v| !v.trim().is_empty())
@@ -111,13 +95,13 @@ fn run() -> Result<(), BoxError> {
         println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
     }
     // RV32: the compiler's memcpy calls go to src/arch/riscv_memcpy.s, and without the F
-    // extension its soft-float calls to src/softfloat/rv32.s; both reach compiler-builtins' own
-    // routines as __real_<name>.
+    // extension its soft-float calls to picomis-softfloat's routines; both reach
+    // compiler-builtins' own routines as __real_<name>.
     if target.starts_with("riscv32") {
         println!("cargo:rustc-link-arg-bins=--wrap=memcpy");
         let features = env::var("CARGO_CFG_TARGET_FEATURE").unwrap_or_default();
         if !features.split(',').any(|f| f == "f") {
-            for symbol in RV32_SOFT_FLOAT {
+            for symbol in picomis_softfloat::RV32_WRAPPED {
                 println!("cargo:rustc-link-arg-bins=--wrap={symbol}");
             }
         }

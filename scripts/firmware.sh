@@ -14,7 +14,11 @@
 #                                 writes firmware/budget.json and the README table from it
 #   scripts/firmware.sh budget    the same measurement, checked against firmware/budget.json
 #                                 (fails on a rise of more than 2 %; writes nothing)
-#   scripts/firmware.sh lint      cargo fmt --check and clippy -D warnings for both targets
+#   scripts/firmware.sh lint      cargo fmt --check and clippy -D warnings for every target (the
+#                                 firmware, picomis-embedded, picomis-softfloat)
+#   scripts/firmware.sh boards    the board examples (boards/*, crates of their own) build for
+#                                 their targets, clippy -D warnings and rustfmt clean; they
+#                                 cannot run here (no probe)
 #
 # Environment: CARGO_TARGET_DIR (default <root>/target), PICOMIS_SIM (host renderer binary,
 # default: built with `cargo build --release -p picomis-sim`), FIRMWARE_WORK (output folder,
@@ -511,8 +515,13 @@ record_figures() {
 cmd_lint() {
   setup
   local t f rc=0
-  (cd "$ROOT" && cargo fmt -p picomis-firmware -- --check) || rc=1
+  (cd "$ROOT" && cargo fmt -p picomis-firmware -p picomis-embedded -p picomis-softfloat -- --check) || rc=1
   for t in $M4 $M0 $RV; do
+    (cd "$ROOT" && CARGO_TARGET_DIR="$TD" cargo clippy --quiet -p picomis-softfloat --target $t -- -D warnings) || rc=1
+    for f in "" "--features defmt" "--features defmt,fixed"; do
+      # shellcheck disable=SC2086
+      (cd "$ROOT" && CARGO_TARGET_DIR="$TD" cargo clippy --quiet -p picomis-embedded --target $t $f -- -D warnings) || rc=1
+    done
     for f in "" "--features rtt" "--no-default-features --features rtt" "--features measure" "--features fixed-proto" "--features softfloat-check" "--features fixed" "--features measure,fixed" "--features rtt,fixed"; do
       # shellcheck disable=SC2086
       (cd "$FW" && CARGO_TARGET_DIR="$TD" cargo clippy --quiet --profile firmware --target $t $f -- -D warnings) || rc=1
@@ -521,14 +530,42 @@ cmd_lint() {
   return $rc
 }
 
+# The board examples: folder under boards/ and target.
+BOARD_EXAMPLES=("stm32f4-st7789 $M4" "rp2040-ili9341 $M0")
+
+# Each board example: rustfmt, clippy -D warnings and a release build (fat LTO, as a user flashes
+# it) for its target, with its own Cargo.lock (--locked); prints the ELF's flash sections.
+cmd_boards() {
+  setup
+  local b dir target elf start=$SECONDS
+  for b in "${BOARD_EXAMPLES[@]}"; do
+    read -r dir target <<<"$b"
+    step "board example boards/$dir ($target)"
+    elf="$TD/$target/release/picomis-$dir"
+    if (cd "$ROOT/boards/$dir" && cargo fmt -- --check &&
+        CARGO_TARGET_DIR="$TD" cargo clippy --locked --release --quiet -- -D warnings &&
+        CARGO_TARGET_DIR="$TD" cargo build --locked --release --quiet); then
+      pass "boards/$dir: builds for $target, clippy -D warnings and rustfmt clean$(
+        command -v arm-none-eabi-size >/dev/null && arm-none-eabi-size -A "$elf" |
+          awk '$1==".text"{t=$2} $1==".rodata"{r=$2} END{printf " (text %d, rodata %d bytes)", t, r}')"
+    else
+      fail "boards/$dir: does not build for $target (or clippy, rustfmt)"
+    fi
+  done
+  say "board examples took $((SECONDS - start)) s"
+  say "boards: $PASSED passed, $FAILED failed"
+  [ "$FAILED" -eq 0 ]
+}
+
 case "${1:-}" in
   setup) setup binutils ;;
   test) cmd_test ;;
+  boards) cmd_boards ;;
   measure) cmd_measure ;;
   budget) cmd_measure check ;;
   lint) cmd_lint ;;
   *)
-    sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'
     exit 2
     ;;
 esac

@@ -78,6 +78,10 @@ if [ -x scripts/firmware.sh ]; then
   scripts/firmware.sh test
   step "firmware budgets: instructions per camera sample, flash text, static RAM, peak stack"
   scripts/firmware.sh budget
+  step "firmware crates: rustfmt and clippy -D warnings for every target (firmware, picomis-embedded, picomis-softfloat)"
+  scripts/firmware.sh lint
+  step "board examples (STM32F4 + ST7789, RP2040 + ILI9341): build for their targets, clippy and rustfmt clean"
+  scripts/firmware.sh boards
 fi
 
 step "browser: the kernel as WebAssembly in headless Chromium, pixels equal to the host's"

@@ -1,11 +1,12 @@
-//! Entry point: build the scene, render it progressively into the static framebuffer, log
+//! Entry point: load the scene, render it progressively into the static framebuffer, log
 //! statistics, and (under QEMU) hand the framebuffer to the host and exit with a status. What
-//! build.rs generated is in `board.rs`; panics and faults are `fault.rs`.
+//! build.rs generated is in `board.rs`; panics and faults are `fault.rs`. The scene slot and the
+//! tile-by-tile draw are picomis-embedded's, as on the boards (`boards/`).
 
 use core::ptr;
 
 use embedded_graphics::prelude::*;
-use picomis::RenderStats;
+use picomis_embedded::{LoadError, SceneSlot};
 
 use crate::board::{FB_BYTES, Fb, config, scene};
 use crate::status;
@@ -37,20 +38,16 @@ fn fnv1a(data: &[u8]) -> u32 {
     data.iter().fold(0x811c_9dc5u32, |h, &b| (h ^ u32::from(b)).wrapping_mul(0x0100_0193))
 }
 
-/// The scene, in .bss rather than on the stack.
-static mut SCENE: scene::SceneT = scene::SceneT::EMPTY;
+/// The scene, in static memory rather than on the stack.
+static SCENE: SceneSlot<scene::SceneT> = SceneSlot::new();
 
 /// Loads the scene into [`SCENE`] from its image (`scene::IMAGE`, built by build.rs on the host:
-/// the firmware carries none of the code that builds a scene). Called from `run` only, once.
+/// the firmware carries none of the code that builds a scene); with `fixed`, the ray queries in
+/// fixed point (the copies of the shapes are filled inside the scene). Not inlined: the stack
+/// peak of the load is measured on its own.
 #[inline(never)]
-fn load_scene() -> Result<&'static scene::SceneT, picomis::SceneError> {
-    // SAFETY: called once, before any other reference to SCENE exists.
-    let scene = unsafe { &mut *ptr::addr_of_mut!(SCENE) };
-    scene::load(scene)?;
-    // The ray queries in fixed point: the copies of the shapes are filled inside the scene.
-    #[cfg(feature = "fixed")]
-    scene.enable_arith(picomis::Arith::Fixed)?;
-    Ok(scene)
+fn load_scene() -> Result<&'static scene::SceneT, LoadError> {
+    SCENE.load(scene::load)
 }
 
 fn run() -> u32 {
@@ -69,7 +66,7 @@ fn run() -> u32 {
         Ok(s) => s,
         Err(_e) => {
             #[cfg(feature = "fixed")]
-            if let picomis::SceneError::NotRepresentable { entry, reason } = _e {
+            if let LoadError::Scene(picomis::SceneError::NotRepresentable { entry, reason }) = _e {
                 info!(
                     "error: fixed point cannot represent shape {} of scene {}: {}",
                     u32::from(entry),
@@ -80,7 +77,7 @@ fn run() -> u32 {
             }
             info!("error: scene {} could not be loaded from its image", scene::NAME);
             #[cfg(feature = "rtt")]
-            defmt::println!("scene error: {}", _e);
+            defmt::error!("scene error: {}", _e);
             return status::SCENE;
         }
     };
@@ -98,7 +95,7 @@ fn run() -> u32 {
         config::TILE
     );
     #[cfg(feature = "rtt")]
-    defmt::println!("settings: {}", settings);
+    defmt::info!("settings: {}", settings);
     let Ok(integrator) = scene::integrator(scene) else {
         info!("error: the settings do not name the strategies the firmware was built with");
         return status::SETTINGS;
@@ -117,12 +114,13 @@ fn run() -> u32 {
     let fb: &mut Fb = unsafe { &mut *ptr::addr_of_mut!(FRAMEBUFFER) };
     let start = clock::ticks();
     let tile = Size::new(config::TILE, config::TILE);
-    let Ok(stats) = integrator.render(tile, fb, |area, total: &RenderStats| {
-        let right = area.top_left.x as u32 + area.size.width;
-        if right >= config::WIDTH {
-            let bottom = area.top_left.y as u32 + area.size.height;
-            info!("progress: rows 0..{} of {}, {} pixels", bottom, config::HEIGHT, total.pixels);
-        }
+    // (With `rtt`, picomis-embedded logs the progress itself, at debug level.)
+    let Ok(stats) = picomis_embedded::draw(&integrator, tile, fb, |_progress| {
+        #[cfg(not(feature = "rtt"))]
+        info!(
+            "progress: rows 0..{} of {}, {} pixels",
+            _progress.rows, _progress.height, _progress.stats.pixels
+        );
     });
     let ticks = clock::ticks() - start;
     info!(
@@ -135,7 +133,7 @@ fn run() -> u32 {
             / u32::try_from(stats.camera_samples).unwrap_or(u32::MAX).max(1)
     );
     #[cfg(feature = "rtt")]
-    defmt::println!("stats: {}", stats);
+    defmt::info!("stats: {}", stats);
     info!("framebuffer: {} bytes, fnv1a {}", FB_BYTES as u32, fnv1a(fb.data()));
 
     #[cfg(feature = "qemu")]

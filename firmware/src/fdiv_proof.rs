@@ -1,5 +1,5 @@
-//! The error bound of the Cortex-M0 division (`__aeabi_fdiv` in `softfloat/m0.s`), proved on the
-//! host over every divisor significand (`picomis-firmware fdiv-bound`, run by
+//! The error bound of the Cortex-M0 division (`__aeabi_fdiv` in picomis-softfloat's `m0.s`),
+//! proved on the host over every divisor significand (`picomis-firmware fdiv-bound`, run by
 //! `scripts/firmware.sh test`).
 //!
 //! The routine computes Q' = floor(A 2^24 / B) for 24-bit significands B in [2^23, 2^24) and A in

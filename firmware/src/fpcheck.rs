@@ -1,4 +1,4 @@
-//! Bit-exactness check of the soft-float routines (`softfloat-check` feature).
+//! Bit-exactness check of the soft-float routines of picomis-softfloat (`softfloat-check` feature).
 //!
 //! A deterministic list of operand pairs, about a fifth of them random bit patterns and the rest
 //! built to hit the hard cases: alignment shifts of 0 to 33 binades (sticky bits), near and
@@ -407,6 +407,7 @@ pub fn dot_operands(i: u32) -> (picomis::Vec3, picomis::Vec3) {
 }
 
 /// Operand pairs for each of the M0's integer routines of the fixed-point path.
+#[cfg_attr(not(target_os = "none"), allow(dead_code))]
 pub const DIVISIONS: u32 = 1 << 16;
 
 /// Division pair `i` in the steps' bounds, 0 <= n < 2^31 d and 1 <= d <= 2^31: every eighth from

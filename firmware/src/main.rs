@@ -43,10 +43,11 @@ fn main() {
     std::process::exit(2);
 }
 
-// Logging: defmt over RTT with `rtt`, else semihosting text with `qemu`, else nothing.
+// Logging: defmt over RTT with `rtt` (at info level: `DEFMT_LOG`, set to `info` in
+// .cargo/config.toml, filters it), else semihosting text with `qemu`, else nothing.
 #[cfg(all(target_os = "none", feature = "rtt"))]
 macro_rules! info {
-    ($($t:tt)*) => { defmt::println!($($t)*) };
+    ($($t:tt)*) => { defmt::info!($($t)*) };
 }
 #[cfg(all(target_os = "none", not(feature = "rtt"), feature = "qemu"))]
 macro_rules! info {
@@ -62,6 +63,10 @@ macro_rules! info {
 // The defmt global logger: RTT, read by probe-rs (or nobody, under QEMU).
 #[cfg(all(target_os = "none", feature = "rtt"))]
 use defmt_rtt as _;
+// Hand-written soft float for the cores without an FPU (Cortex-M0; RV32IMC, with the --wrap
+// flags of build.rs); empty on the M4F.
+#[cfg(target_os = "none")]
+use picomis_softfloat as _;
 
 #[cfg(target_os = "none")]
 mod app;
@@ -93,15 +98,6 @@ mod fpcheck;
 mod measure;
 #[cfg(all(target_os = "none", feature = "qemu"))]
 mod semihosting;
-// Hand-written soft float for cores without an FPU (thumbv6m: Cortex-M0; RV32IMC).
-#[cfg(all(
-    target_os = "none",
-    any(
-        all(target_arch = "arm", target_abi = "eabi"),
-        all(target_arch = "riscv32", not(target_feature = "f"))
-    )
-))]
-mod softfloat;
 #[cfg(target_os = "none")]
 mod stack;
 #[cfg(target_os = "none")]

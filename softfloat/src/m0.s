@@ -1,4 +1,4 @@
-@ picomis: single-precision soft float for ARMv6-M (Thumb-1), see mod.rs.
+@ picomis: single-precision soft float for ARMv6-M (Thumb-1), see lib.rs.
 @ AAPCS: operands in r0, r1, result in r0; r0-r3, r12 and the flags may be clobbered.
 @ Round to nearest, ties to even. Fast paths for normal operands with a normal result; the rest
 @ goes, with the original operands, to compiler-builtins' __addsf3 / __mulsf3 / __divsf3.
@@ -268,7 +268,7 @@ __aeabi_fmul:
 @ step) in two digit steps, q1 (15 bits) and q2 (about 10 more), each from a remainder that is
 @ exact because its true value is small (computed mod 2^32 with MULS), then made exact by one
 @ correction from the final remainder. The bounds in the comments are proved for every B (and
-@ so every A) by firmware/src/fdiv_proof.rs (`picomis-firmware fdiv-bound`); fpcheck.rs checks
+@ so every A) by firmware/src/fdiv_proof.rs (`picomis-firmware fdiv-bound`); firmware/src/fpcheck.rs checks
 @ the routine against compiler-builtins' __divsf3 bit for bit.
     .section .text.picomis_fdiv,"ax",%progbits
     .balign 4

@@ -62,6 +62,26 @@ impl UniformIndex {
 /// [`Sampler::next_f32`](crate::sampling::sampler::Sampler::next_f32) takes: its 24 bits, 2^24.
 pub const GRID: u32 = 1 << 24;
 
+/// The smallest sum of weights [`GridDistribution::new`] scales onto the grid as it is: 2^-100
+/// (below about 2^-104, 2^24 / sum would be beyond f32).
+pub const TINY_TOTAL: f32 = f32::from_bits(0x0d80_0000);
+
+/// 2^64, the factor by which [`GridDistribution::new`] scales weights whose sum is below
+/// [`TINY_TOTAL`] (and 2^-64 for a sum beyond f32): exact, and enough, since the smallest
+/// positive f32 times 2^64 is above [`TINY_TOTAL`] and the largest times 2^-64 below 2^64.
+const TWO_64: f32 = 18_446_744_073_709_551_616.0;
+
+/// The sum of the positive entries of `weights` (adding zero instead of the others changes no
+/// bit of a positive sum, and a sum that is not positive is refused either way).
+#[inline]
+fn positive_sum(weights: &[f32]) -> f32 {
+    let mut total = 0.0f32;
+    for &w in weights {
+        total += if w > 0.0 { w } else { 0.0 };
+    }
+    total
+}
+
 /// A discrete distribution on the grid of the random number it is sampled with: entry `i` owns
 /// a run of the 2^24 equally likely values of `u`, so the probability [`GridDistribution::pmf`]
 /// reports is exactly the one [`GridDistribution::sample`] realises. Every positive weight gets
@@ -75,17 +95,42 @@ pub struct GridDistribution<const N: usize> {
 
 impl<const N: usize> GridDistribution<N> {
     /// The distribution proportional to `weights` (at most `N` are read); entries whose weight is
-    /// not positive get no value. Empty (it samples nothing) when the weights do not have a
-    /// positive, finite sum.
+    /// not positive get no value. Empty (it samples nothing) when no weight is positive, or one
+    /// is infinite. Weights whose sum is beyond f32, or so small that the scale onto the grid
+    /// would be (below [`TINY_TOTAL`]), are first scaled by a power of two
+    /// ([`GridDistribution::rescaled`]): the same distribution, every positive weight still
+    /// positive.
     pub fn new(weights: &[f32]) -> Self {
-        let mut ends = heapless::Vec::new();
         let weights = weights.get(..N).unwrap_or(weights);
-        // The sum of the positive weights (adding zero instead of the others changes no bit of a
-        // positive sum, and a sum that is not positive is refused below either way).
-        let mut total = 0.0f32;
-        for &w in weights {
-            total += if w > 0.0 { w } else { 0.0 };
+        let total = positive_sum(weights);
+        if total < TINY_TOTAL && total > 0.0 {
+            return Self::rescaled(weights, TWO_64);
         }
+        if total == f32::INFINITY {
+            return Self::rescaled(weights, 1.0 / TWO_64);
+        }
+        Self::with_total(weights, total)
+    }
+
+    /// [`GridDistribution::new`] of `weights` times `factor`, a power of two, each positive
+    /// weight at least [`f32::MIN_POSITIVE`] (weights beyond f32 stay infinite): for sums out of
+    /// the range the grid's scale can take. Out of line: no ordinary scene comes here.
+    #[cold]
+    #[inline(never)]
+    fn rescaled(weights: &[f32], factor: f32) -> Self {
+        let mut scaled = [0.0f32; N];
+        for (s, &w) in scaled.iter_mut().zip(weights) {
+            *s = if w > 0.0 { (w * factor).max(f32::MIN_POSITIVE) } else { 0.0 };
+        }
+        let scaled = scaled.get(..weights.len()).unwrap_or(&scaled);
+        Self::with_total(scaled, positive_sum(scaled))
+    }
+
+    /// The distribution proportional to `weights` (at most `N`), whose positive ones sum to
+    /// `total`; empty unless `total` is positive and finite.
+    #[inline]
+    fn with_total(weights: &[f32], total: f32) -> Self {
+        let mut ends = heapless::Vec::new();
         if !positive_finite(total) {
             return Self { ends };
         }
