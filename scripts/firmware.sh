@@ -407,8 +407,9 @@ cmd_measure() {
   # The fixed-point ray queries (feature fixed) on the cores without an FPU.
   for c in "${FIXED_CORES[@]}"; do
     read -r core pre target film goal <<<"$c"
-    build "$pre-fixed-size" "$target" "--features fixed" "$VEACH" "${film%x*}" "${film#*x}" 1 0 || die "build failed"
-    build "$pre-fixed-measure" "$target" "--features measure,fixed" "$VEACH" 64 48 1 0 || die "build failed"
+    # The lecture's strategies, like the f32 figures they are compared with.
+    PRESET=lecture build "$pre-fixed-size" "$target" "--features fixed" "$VEACH" "${film%x*}" "${film#*x}" 1 0 || die "build failed"
+    PRESET=lecture build "$pre-fixed-measure" "$target" "--features measure,fixed" "$VEACH" 64 48 1 0 || die "build failed"
   done
 
   step "measure: size (bytes; targets: text <= 32768, RAM besides the framebuffer <= 4096)"
