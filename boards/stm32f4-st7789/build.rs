@@ -1,6 +1,6 @@
 //! Build script: the memory layout for cortex-m-rt's `link.x`, the linker scripts (`link.x`,
 //! defmt's `defmt.x`), and the scene: the picomis-scene/1 file (`PICOMIS_SCENE`, default the
-//! repository's `scenes/veach_mis.json`) built for the display's 240 x 240 pixels, as Rust
+//! repository's `scenes/veach_mis.json`; `PICOMIS_PRESET` a preset instead of its integrator block) built for the display's 240 x 240 pixels, as Rust
 //! (`OUT_DIR/picomis_scene.rs`: the scene's image, its settings as constants, its strategy
 //! types).
 
@@ -25,7 +25,22 @@ fn main() {
     let scene = env::var_os("PICOMIS_SCENE")
         .map(PathBuf::from)
         .unwrap_or_else(|| manifest.join("../../scenes/veach_mis.json"));
-    let firmware = picomis_format::build::Firmware::new(manifest.join(scene), DISPLAY.0, DISPLAY.1);
+    // `PICOMIS_PRESET=lecture`: the course's estimator instead of the file's integrator block
+    // (smaller and faster per sample; see the README's frame times).
+    println!("cargo:rerun-if-env-changed=PICOMIS_PRESET");
+    let preset = env::var("PICOMIS_PRESET").ok().map(|name| {
+        picomis::Preset::from_name(name.trim()).unwrap_or_else(|| {
+            eprintln!(
+                "PICOMIS_PRESET={name:?}: expected {}",
+                picomis::choice::Names::<picomis::Preset>::of()
+            );
+            std::process::exit(1)
+        })
+    });
+    let firmware = picomis_format::build::Firmware {
+        preset,
+        ..picomis_format::build::Firmware::new(manifest.join(scene), DISPLAY.0, DISPLAY.1)
+    };
     if let Err(e) = firmware.generate() {
         eprintln!("{e}");
         std::process::exit(1);
