@@ -1,0 +1,107 @@
+//! What every check shares: the estimates per check and the tolerance, the methods, their
+//! settings, the closed forms' small helpers, and the check of every method at the origin of a
+//! floor against an exact value, for every sample stream.
+
+use picomis::{Heuristic, LightSelection, Method, RenderSettings, Rgb, SamplerKind, SphereSampling, Vec3};
+use picomis_host::HostScene;
+use picomis_tests::{RgbStats, assert_unbiased_rgb, d3, direct_stats, rgb64, shading_hit, sphere_irradiance};
+use std::f64::consts::PI;
+
+/// Estimates per check.
+pub const N: u32 = 200_000;
+/// Largest standard error allowed, relative to the exact value.
+pub const MAX_REL_STDERR: f64 = 0.02;
+/// Seed of every render setting here.
+const SEED: u32 = 2024;
+
+pub const ALBEDO: Rgb = Rgb::new(0.8, 0.5, 0.2);
+
+/// Every method of the kernel.
+pub fn methods() -> Vec<(String, Method)> {
+    let mut m =
+        vec![("light only".to_string(), Method::LightOnly), ("BSDF only".to_string(), Method::BsdfOnly)];
+    m.extend(heuristics().into_iter().map(|h| (format!("MIS {h:?}"), Method::Mis(h))));
+    m
+}
+
+fn heuristics() -> [Heuristic; 7] {
+    [
+        Heuristic::Average,
+        Heuristic::Balance,
+        Heuristic::Power { beta: 2.0 },
+        Heuristic::Power { beta: 3.0 },
+        Heuristic::Power { beta: 0.5 },
+        Heuristic::Maximum,
+        Heuristic::Cutoff { alpha: 0.1 },
+    ]
+}
+
+pub fn settings(method: Method, n_light: u16, n_bsdf: u16) -> RenderSettings {
+    RenderSettings::new(method, n_light, n_bsdf, 1, SEED).unwrap()
+}
+
+/// Exact reflected radiance of a Lambertian receiver (albedo [`ALBEDO`]) under irradiance `e`.
+pub fn lambert_out(e: [f64; 3]) -> [f64; 3] {
+    let a = rgb64(ALBEDO);
+    [a[0] / PI * e[0], a[1] / PI * e[1], a[2] / PI * e[2]]
+}
+
+pub fn scaled(c: Rgb, s: f64) -> [f64; 3] {
+    rgb64(c).map(|v| v * s)
+}
+
+pub fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// Irradiance per unit radiance at the origin (normal +y) from a sphere.
+pub fn sphere_e(c: Vec3, r: f32) -> f64 {
+    let v = d3(c);
+    let d = v.length();
+    sphere_irradiance(1.0, f64::from(r), d, v.y / d)
+}
+
+/// Checks every method in `methods` at the origin of the floor (object 0, normal +y).
+#[allow(clippy::too_many_arguments)]
+pub fn check_methods(
+    label: &str,
+    scene: &HostScene,
+    methods: &[(String, Method)],
+    counts: (u16, u16),
+    spheres: SphereSampling,
+    selection: LightSelection,
+    exact: [f64; 3],
+    stream: u32,
+) {
+    let hit = shading_hit(picomis::ShapeId::new(0), Vec3::ZERO, Vec3::Y);
+    let wo = check_wo();
+    for kind in SamplerKind::ALL {
+        for (k, (name, method)) in methods.iter().enumerate() {
+            let s = settings(*method, counts.0, counts.1)
+                .with_sphere_sampling(spheres)
+                .with_light_selection(selection)
+                .with_sampler(kind);
+            let st = direct_stats(scene, &s, &hit, wo, stream + k as u32, N);
+            let label =
+                format!("{label}, {name}, n = {counts:?}, {spheres:?}, {selection:?}, {}", kind.name());
+            report(&label, &st.total, exact);
+            assert_unbiased_rgb(&label, &st.total, exact, MAX_REL_STDERR);
+        }
+    }
+}
+
+/// The view direction of [`check_methods`].
+pub fn check_wo() -> Vec3 {
+    Vec3::new(0.3, 0.9, -0.2).normalize()
+}
+
+pub fn report(label: &str, st: &RgbStats, exact: [f64; 3]) {
+    let s = &st.0[0];
+    println!(
+        "{label}: mean {:.5e} exact {:.5e} stderr {:.2}% z {:+.2}",
+        s.mean(),
+        exact[0],
+        100.0 * s.stderr() / exact[0],
+        (s.mean() - exact[0]) / s.stderr()
+    );
+}
