@@ -201,19 +201,6 @@ prepare_softfloat_host() {
   fi
 }
 
-# check_fdiv_bound: the host proof of the M0 division's error bound over every divisor
-# significand (firmware/src/fdiv_proof.rs), run by the firmware crate's host stub.
-check_fdiv_bound() {
-  local line
-  if [ ! -x "$TD/release/picomis-firmware" ]; then
-    fail "fdiv-bound: no host stub (picomis-firmware)"
-  elif line=$("$TD/release/picomis-firmware" fdiv-bound 2>&1); then
-    pass "$line"
-  else
-    fail "$(printf '%s' "$line" | tail -n 3 | tr '\n' ' ')"
-  fi
-}
-
 # check_softfloat NAME TARGET: builds the softfloat-check firmware, which runs the soft-float
 # routines on the operand pairs of fpcheck.rs and compares each result with compiler-builtins
 # (exit status 6 on a mismatch), the kernel's dot product with glam's through the library,
@@ -312,7 +299,6 @@ cmd_test() {
   done
   check_build m4-board-rtt $M4 "--no-default-features --features rtt"
   # Cortex-M0, 64x48 (16 KiB RAM); its hand-written soft float first.
-  check_fdiv_bound
   check_softfloat m0-softfloat $M0
   check_softfloat rv-softfloat $RV
   check_render m0-veach $M0 "" "$VEACH" 64 48 1 0
@@ -445,11 +431,6 @@ cmd_measure() {
     grep '^measure:' "$WORK/$pre-fixed-measure.log"
   done
 
-  step "measure: fixed-point prototype on the M0 (Q16.16 ray-shape intersection against f32; firmware/src/fixed_proto.rs)"
-  build m0-fixed $M0 "--features fixed-proto" "$VEACH" 64 48 1 0 || die "build failed"
-  run_qemu m0-fixed $M0 || die "m0-fixed: QEMU exit status $? (log $WORK/m0-fixed.log)"
-  grep '^fixed point:' "$WORK/m0-fixed.log"
-
   step "measure: summary"
   local per stackline v t r d b u fb figures="$WORK/figures.txt"
   : >"$figures"
@@ -523,7 +504,7 @@ cmd_lint() {
       # shellcheck disable=SC2086
       (cd "$ROOT" && CARGO_TARGET_DIR="$TD" cargo clippy --quiet -p picomis-embedded --target $t $f -- -D warnings) || rc=1
     done
-    for f in "" "--features rtt" "--no-default-features --features rtt" "--features measure" "--features fixed-proto" "--features softfloat-check" "--features fixed" "--features measure,fixed" "--features rtt,fixed"; do
+    for f in "" "--features rtt" "--no-default-features --features rtt" "--features measure" "--features softfloat-check" "--features fixed" "--features measure,fixed" "--features rtt,fixed"; do
       # shellcheck disable=SC2086
       (cd "$FW" && CARGO_TARGET_DIR="$TD" cargo clippy --quiet --profile firmware --target $t $f -- -D warnings) || rc=1
     done

@@ -18,7 +18,7 @@
 //! conversion (`__aeabi_ui2f`) against compiler-builtins' `__floatunsisf` on
 //! 2^20 values (every leading-one position, exact ties of both parities), and the count of
 //! leading zeros (the M0's `__clzsi2`) of the same values against a shift loop. On the M0 it
-//! also checks the fixed-point path's integer routines (`kernel/src/int_m0.rs`), the quad test's
+//! also checks the fixed-point path's integer routines (`kernel/src/num/int_m0.rs`), the quad test's
 //! division steps, the 32 x 32 -> 64-bit product and the 64-bit dot product of 32-bit vectors,
 //! against the 64-bit division and products on [`DIVISIONS`] operand pairs each.
 
@@ -581,7 +581,7 @@ pub fn run() -> u32 {
             mismatches += 1;
         }
     }
-    // The M0's integer routines of the fixed-point path (kernel/src/int_m0.rs): the division
+    // The M0's integer routines of the fixed-point path (kernel/src/num/int_m0.rs): the division
     // steps against the 64-bit division, the 32 x 32 -> 64-bit product against the 64-bit one.
     #[cfg(all(target_arch = "arm", target_abi = "eabi"))]
     {
@@ -624,7 +624,7 @@ pub fn run() -> u32 {
         }
         for i in 0..DIVISIONS {
             let (n, d) = division_operands(i);
-            // SAFETY: the routine takes and returns plain integers (see kernel/src/fixed.rs).
+            // SAFETY: the routine takes and returns plain integers (see kernel/src/query/fixed.rs).
             let ours = unsafe { picomis_div_steps((n >> 31) as u32, (n as u32) << 1, d) };
             let want = n / u64::from(d);
             if u64::from(ours) != want {

@@ -5,36 +5,32 @@
 //! (Cortex-M0, `thumbv6m-none-eabi`, QEMU `microbit`) and FE310 (RISC-V RV32IMC,
 //! `riscv32imc-unknown-none-elf`, QEMU `sifive_e`). Features: `qemu` (default: semihosting
 //! text logs, framebuffer written to the host, exit status), `rtt` (defmt logs over RTT, the
-//! kernel's defmt support), `measure` (instruction counts per camera sample with SysTick).
-//! See firmware/README.md.
+//! kernel's defmt support), `measure` (instruction counts per camera sample with SysTick),
+//! `softfloat-check` (the soft-float routines checked instead of a render, fpcheck.rs) and
+//! `fixed` (the ray queries in fixed point). See firmware/README.md.
 #![cfg_attr(target_os = "none", no_std)]
 #![cfg_attr(target_os = "none", no_main)]
 
 /// A host build (`cargo build --workspace`) gets this stub; the firmware needs `--target`.
 /// `picomis-firmware softfloat-digest` prints the host's digests of the soft-float check
-/// (see fpcheck.rs), which `scripts/firmware.sh test` compares with the firmware's;
-/// `picomis-firmware fdiv-bound` proves the M0 division's error bound (see fdiv_proof.rs).
+/// (see fpcheck.rs), which `scripts/firmware.sh test` compares with the firmware's.
 #[cfg(not(target_os = "none"))]
 fn main() {
-    match std::env::args().nth(1).as_deref() {
-        Some("softfloat-digest") => {
-            let d = fpcheck::digests(|_, _, _, _| {});
-            println!(
-                "softfloat digest: {} pairs, add {} sub {} mul {} cmp {} lmul {}; {} division pairs, div {}",
-                fpcheck::PAIRS,
-                d.add,
-                d.sub,
-                d.mul,
-                d.cmp,
-                d.lmul,
-                fpcheck::DIV_PAIRS,
-                d.div
-            );
-            println!("softfloat dot digest: {} pairs, dot {}", fpcheck::DOTS, d.dot);
-            return;
-        }
-        Some("fdiv-bound") => std::process::exit(if fdiv_proof::run() { 0 } else { 1 }),
-        _ => {}
+    if std::env::args().nth(1).as_deref() == Some("softfloat-digest") {
+        let d = fpcheck::digests(|_, _, _, _| {});
+        println!(
+            "softfloat digest: {} pairs, add {} sub {} mul {} cmp {} lmul {}; {} division pairs, div {}",
+            fpcheck::PAIRS,
+            d.add,
+            d.sub,
+            d.mul,
+            d.cmp,
+            d.lmul,
+            fpcheck::DIV_PAIRS,
+            d.div
+        );
+        println!("softfloat dot digest: {} pairs, dot {}", fpcheck::DOTS, d.dot);
+        return;
     }
     eprintln!(
         "picomis-firmware runs on a microcontroller: build it in firmware/ (target thumbv7em-none-eabihf \
@@ -88,11 +84,6 @@ mod clock;
 mod digest;
 #[cfg(target_os = "none")]
 mod fault;
-// The M0 division's error bound, proved on the host (`picomis-firmware fdiv-bound`).
-#[cfg(not(target_os = "none"))]
-mod fdiv_proof;
-#[cfg(all(target_os = "none", feature = "fixed-proto"))]
-mod fixed_proto;
 mod fpcheck;
 #[cfg(all(target_os = "none", feature = "measure"))]
 mod measure;

@@ -93,7 +93,4 @@ pub fn run(integrator: &IntegratorT<'_>, fb: &mut Fb) {
     let pixels = u64::from(w * h) * u64::from(repeat);
     let overhead = tile_instr.saturating_sub(sample_instr);
     per("render_tile: per-pixel overhead (average, tone map, store)", overhead, pixels);
-
-    #[cfg(feature = "fixed-proto")]
-    crate::fixed_proto::run(scene, cal);
 }

@@ -55,7 +55,7 @@
 //!   operand);
 //! - the division computes the quotient from a 16-bit reciprocal of the divisor (a 128-entry
 //!   table, `fdiv_recip.s`, and one Newton step) in two digit steps and one correction, with no
-//!   64-bit multiply; `firmware/src/fdiv_proof.rs` in the picomis repository proves its error
+//!   64-bit multiply; `tools/tests/fdiv_bound.rs` in the picomis repository proves its error
 //!   bound for every divisor significand;
 //! - everything else tail-calls compiler-builtins with the original operands, so the rare cases
 //!   keep the library's exact bits; the comparisons are complete (they have no rare case).

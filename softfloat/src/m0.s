@@ -268,7 +268,7 @@ __aeabi_fmul:
 @ step) in two digit steps, q1 (15 bits) and q2 (about 10 more), each from a remainder that is
 @ exact because its true value is small (computed mod 2^32 with MULS), then made exact by one
 @ correction from the final remainder. The bounds in the comments are proved for every B (and
-@ so every A) by firmware/src/fdiv_proof.rs (`picomis-firmware fdiv-bound`); firmware/src/fpcheck.rs checks
+@ so every A) by tools/tests/fdiv_bound.rs (a host test); firmware/src/fpcheck.rs checks
 @ the routine against compiler-builtins' __divsf3 bit for bit.
     .section .text.picomis_fdiv,"ax",%progbits
     .balign 4

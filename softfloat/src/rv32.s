@@ -178,9 +178,9 @@ __wrap___mulsf3:
 # float __wrap___divsf3(float a, float b): the algorithm of m0.s's __aeabi_fdiv, step for step
 # (the same 128-entry reciprocal table, Newton step, two digit steps and one correction, each
 # product and remainder modulo 2^32 as MULS computes them there), so the error bound that
-# fdiv_proof.rs proves for that routine holds here too. With A = 1.fa and B = 1.fb as 24-bit
-# integers (A doubled when A < B), Q' = floor(A 2^24 / B) has 25 bits and is never exactly
-# halfway, so rounding to nearest is (Q' + 1) >> 1.
+# tools/tests/fdiv_bound.rs proves for that routine holds here too. With A = 1.fa and
+# B = 1.fb as 24-bit integers (A doubled when A < B), Q' = floor(A 2^24 / B) has 25 bits and is
+# never exactly halfway, so rounding to nearest is (Q' + 1) >> 1.
     .section .text.picomis_rv_fdiv,"ax",@progbits
     .globl __wrap___divsf3
     .type __wrap___divsf3, @function

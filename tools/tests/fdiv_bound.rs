@@ -1,6 +1,7 @@
-//! The error bound of the Cortex-M0 division (`__aeabi_fdiv` in picomis-softfloat's `m0.s`),
-//! proved on the host over every divisor significand (`picomis-firmware fdiv-bound`, run by
-//! `scripts/firmware.sh test`).
+//! The error bound of the Cortex-M0 division (`__aeabi_fdiv` in picomis-softfloat's `m0.s`, and
+//! RV32IMC's `__wrap___divsf3` in `rv32.s`, the same algorithm step for step), proved on the host
+//! over every divisor significand:
+//! `cargo test --release -p picomis-tools --test fdiv_bound -- --nocapture` prints the bound.
 //!
 //! The routine computes Q' = floor(A 2^24 / B) for 24-bit significands B in [2^23, 2^24) and A in
 //! [B, 2B) from a 16-bit reciprocal X of B (a table entry and one Newton step), in two digit
@@ -9,10 +10,18 @@
 //! every product fits 32 bits, and the estimate Q before the correction loop is at most Q' (the
 //! loop only counts up). [`model`] is the routine's integer arithmetic step by step, in the
 //! same 32-bit wrapping operations; [`bound`] derives, for one B and every A at once, how far
-//! below Q' the estimate can be. [`run`] checks every B (2^23 of them) with the bound and with the
-//! model on the dividends that are worst for the bound, and the whole division (exponents,
-//! rounding, the cases handed to compiler-builtins) against the host's f32 on the soft-float
-//! check's operand pairs.
+//! below Q' the estimate can be. [`every_divisor_significand`] checks every B (2^23 of them) with
+//! the bound and with the model on the dividends that are worst for the bound;
+//! [`whole_division_on_the_check_pairs`] checks the whole division (exponents, rounding, the cases
+//! handed to compiler-builtins) against the host's f32 on the soft-float check's division pairs,
+//! the pairs on which `scripts/firmware.sh test` checks the routine itself under QEMU against
+//! compiler-builtins: so the model is the routine there.
+
+/// The soft-float check's operand pairs (the firmware's `softfloat-check` runs the routines on
+/// them; one definition, read here for its [`fpcheck::div_operands`]).
+#[path = "../../firmware/src/fpcheck.rs"]
+#[allow(dead_code)]
+mod fpcheck;
 
 /// The table entry for a divisor significand `b` (the assembler's `.rept` computes the same
 /// 128 values): 2^24 / (257 + 2i) for B in [2^23 + 2^16 i, 2^23 + 2^16 (i + 1)).
@@ -101,17 +110,28 @@ fn bound(b: u32) -> Option<(u64, u64)> {
     Some((r1 as u64, (r / b) as u64))
 }
 
-/// The routine's whole division (bits in, bits out), or `None` when it hands the operands to
-/// compiler-builtins' `__divsf3` (a zero, subnormal, infinite or NaN divisor; a subnormal,
-/// infinite or NaN dividend; a subnormal or overflowing result before rounding).
-pub fn divide(a: u32, b: u32) -> Option<u32> {
+/// What the routine does with one pair of operands.
+#[derive(Debug, PartialEq)]
+enum Division {
+    /// It hands the operands to compiler-builtins' `__divsf3`: a zero, subnormal, infinite or NaN
+    /// divisor; a subnormal, infinite or NaN dividend; a subnormal or overflowing result before
+    /// rounding.
+    Library,
+    /// Its quotient's bits.
+    Quotient(u32),
+    /// Its integer steps leave their range ([`model`] fails): the routine would be wrong.
+    Broken,
+}
+
+/// The routine's whole division (bits in, bits out).
+fn divide(a: u32, b: u32) -> Division {
     let (ea, eb) = ((a >> 23) & 0xff, (b >> 23) & 0xff);
     if eb.wrapping_sub(1) > 253 {
-        return None;
+        return Division::Library;
     }
     let sign = (a ^ b) & 0x8000_0000;
     if ea.wrapping_sub(1) > 253 {
-        return if a << 1 == 0 { Some(sign) } else { None };
+        return if a << 1 == 0 { Division::Quotient(sign) } else { Division::Library };
     }
     let (mut sa, sb) = (a & 0x7f_ffff | 1 << 23, b & 0x7f_ffff | 1 << 23);
     let mut e1 = ea as i32 - eb as i32 + 126; // e - 1
@@ -120,10 +140,12 @@ pub fn divide(a: u32, b: u32) -> Option<u32> {
         e1 -= 1;
     }
     if !(0..=253).contains(&e1) {
-        return None;
+        return Division::Library;
     }
-    let (q, _) = model(sa, sb)?;
-    Some(sign + ((e1 as u32) << 23) + ((q + 1) >> 1))
+    match model(sa, sb) {
+        Some((q, _)) => Division::Quotient(sign + ((e1 as u32) << 23) + ((q + 1) >> 1)),
+        None => Division::Broken,
+    }
 }
 
 /// The dividends that are worst for [`bound`] and for the floors: A = B, A = 2B - 1, and the
@@ -134,9 +156,10 @@ fn worst_dividends(b: u32) -> [u32; 3] {
     [b, top, f511]
 }
 
-/// Checks every divisor significand and the whole division; prints one line, returns whether
-/// everything held.
-pub fn run() -> bool {
+/// Every divisor significand: the bound holds (every product and remainder in range, at most one
+/// correction) and the model gives Q' exactly on the worst dividends.
+#[test]
+fn every_divisor_significand() {
     let mut failures = 0u64;
     let (mut max_r1, mut max_steps_bound, mut max_steps_seen) = (0u64, 0u64, 0u32);
     for b in 1u32 << 23..1 << 24 {
@@ -162,35 +185,48 @@ pub fn run() -> bool {
             }
         }
     }
-    // The whole division against the host's f32 (the target checks the routine against
-    // compiler-builtins on the same pairs).
-    let (mut fast, mut mismatches) = (0u32, 0u32);
-    for i in 0..crate::fpcheck::DIV_PAIRS {
-        let (a, b) = crate::fpcheck::div_operands(i);
-        if let Some(q) = divide(a, b) {
-            fast += 1;
-            let host = (f32::from_bits(a) / f32::from_bits(b)).to_bits();
-            if q != host {
-                if mismatches < 8 {
-                    eprintln!("fdiv-bound: {a:#x} / {b:#x}: model {q:#x}, host {host:#x}");
-                }
-                mismatches += 1;
-            }
-        }
-    }
     println!(
         "fdiv-bound: {} divisor significands: r1 < {} (limit 2^27 = {}), at most {} correction steps \
-         (bound), {} seen on the worst dividends; {} failures. Model == host f32 on {} of {} pairs \
-         that stay on the fast path ({} mismatches)",
+         (bound), {} seen on the worst dividends; {} failures",
         1u32 << 23,
         max_r1 + 1,
         1u32 << 27,
         max_steps_bound,
         max_steps_seen,
-        failures,
+        failures
+    );
+    assert_eq!(failures, 0, "the division's error bound fails for some divisor significands");
+}
+
+/// The whole division (model) against the host's f32 on the check's division pairs that stay on
+/// the routine's fast path.
+#[test]
+fn whole_division_on_the_check_pairs() {
+    let (mut fast, mut mismatches) = (0u32, 0u32);
+    for i in 0..fpcheck::DIV_PAIRS {
+        let (a, b) = fpcheck::div_operands(i);
+        let model = divide(a, b);
+        if model == Division::Library {
+            continue;
+        }
+        fast += 1;
+        let host = (f32::from_bits(a) / f32::from_bits(b)).to_bits();
+        if model != Division::Quotient(host) {
+            if mismatches < 8 {
+                eprintln!("fdiv-bound: {a:#x} / {b:#x}: model {model:?}, host {host:#x}");
+            }
+            mismatches += 1;
+        }
+    }
+    println!(
+        "fdiv-bound: model == host f32 on {} of {} division pairs that stay on the fast path \
+         ({} mismatches; {} pairs in all)",
         fast - mismatches,
         fast,
-        mismatches
+        mismatches,
+        fpcheck::DIV_PAIRS
     );
-    failures == 0 && mismatches == 0
+    // Most pairs are normal operands with a normal result: the check must reach the fast path.
+    assert!(fast > fpcheck::DIV_PAIRS / 2, "only {fast} pairs reached the fast path");
+    assert_eq!(mismatches, 0, "the division's model differs from the host's f32");
 }
