@@ -13,7 +13,7 @@ use crate::scenes::{self, find_builtin};
 /// `picomis-sim import`.
 #[derive(Debug, clap::Args)]
 pub struct ImportArgs {
-    /// A Mitsuba 3 XML scene (the subset picomis models: see the README).
+    /// A Mitsuba 3 XML scene (the subset picomis models: see docs/simulator.md).
     pub scene: PathBuf,
     /// The picomis-scene/1 file to write (default: `<scene stem>.json` here).
     #[arg(long, value_name = "FILE.json")]

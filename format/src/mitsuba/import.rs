@@ -1,5 +1,5 @@
-//! Mitsuba 3 XML to `picomis-scene/1`: the subset picomis models (README, "Mitsuba 3 scenes in
-//! and out"). Everything else is an error naming the element and its line; nothing is dropped
+//! Mitsuba 3 XML to `picomis-scene/1`: the subset picomis models (docs/simulator.md, "Mitsuba 3
+//! scenes in and out"). Everything else is an error naming the element and its line; nothing is dropped
 //! silently. Values are validated with the kernel's own constructors as they are read, so an
 //! error points at the XML element that caused it.
 

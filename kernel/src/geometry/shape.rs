@@ -134,7 +134,7 @@ impl Quad {
         ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&v)).then_some(t)
     }
 
-    /// Corner `p0` and the edges `e1`, `e2` (for the fixed-point path, `kernel/src/fixed.rs`).
+    /// Corner `p0` and the edges `e1`, `e2` (for the fixed-point path, `kernel/src/query/fixed.rs`).
     #[cfg(feature = "fixed")]
     pub(crate) fn edges(&self) -> (Vec3, Vec3, Vec3) {
         (self.p0, self.e1, self.e2)

@@ -37,8 +37,8 @@ const REJECT_MIN_F2: f32 = f32::from_bits((127 - 60) << 23);
 const FIXED_REJECT: bool = SOFT_FLOAT || cfg!(test);
 
 /// What a sphere's origin terms store for the fixed-point reject: its [`SphereFixed`] terms where
-/// the reject runs ([`FIXED_REJECT`]), nothing ([`NoFixed`]) elsewhere (176 bytes of RAM on the
-/// M4F's `RaysFrom` for the 11-object Veach scene).
+/// the reject runs ([`FIXED_REJECT`]), nothing ([`NoFixed`]) elsewhere (no RAM in `RaysFrom`
+/// on the cores with an FPU).
 #[cfg(any(test, all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f"))))]
 pub(super) type SphereFixedTerms = SphereFixed;
 #[cfg(not(any(test, all(target_os = "none", not(target_abi = "eabihf"), not(target_feature = "f")))))]
@@ -143,8 +143,8 @@ const FIXED_DOT_ERROR: i32 = 148_000;
 pub(super) struct SphereFixed {
     gq: u32,
     /// In 16 bits (|q[i]| < 2^14): with `behind`'s spare values holding the enum's tag, the
-    /// sphere's [`Terms`] take 8 words, which the compiler copies inline (44 bytes went through
-    /// `memcpy`, about 70 instructions a copy on RV32IMC).
+    /// sphere's [`Terms`] take 8 words, which the compiler copies inline (11 words would go
+    /// through `memcpy` on RV32IMC).
     q: [i16; 3],
     behind: bool,
 }

@@ -108,9 +108,9 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
         sampler: &mut Sampler,
     ) -> (TechniqueEstimate, TechniqueEstimate) {
         let none = (TechniqueEstimate::default(), TechniqueEstimate::default());
-        // On the microcontrollers not through `shading`, whose `Option` cost a copy of the
-        // struct on the M4F (some 100 instructions). On x86 the other way round: that struct
-        // built by a function of its own made the render 15 % slower.
+        // On the microcontrollers not through `shading`, whose `Option` costs a copy of the
+        // struct on the M4F. On x86 the other way round: that struct built by a function of its
+        // own makes the render slower.
         #[cfg(target_os = "none")]
         let at = match reflecting(self.scene, x) {
             Some(bsdf) => shading!(self, x, bsdf, wo),
@@ -240,9 +240,9 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
     /// front side. With it, a light in closed form counts with f L_e (V - 1) / p_b: only when the
     /// ray meets its front side behind another surface.
     ///
-    /// Out of line (inlined into the multi-sample model's loop, its loop-invariant values were
-    /// spilled around it on the M4F), except on RV32IMC, where its own frame would add some
-    /// 100 bytes to the peak stack.
+    /// Out of line (inlined into the multi-sample model's loop, its loop-invariant values are
+    /// spilled around it on the M4F), except on RV32IMC, where its own frame would add to the
+    /// peak stack.
     #[cfg_attr(not(target_arch = "riscv32"), inline(never))]
     #[cfg_attr(target_arch = "riscv32", inline)]
     fn bsdf_sample(
@@ -341,8 +341,8 @@ macro_rules! shading {
         let every_emitter = control_variate && (!St::ControlVariate::AUTO || covered.lights & !exact != 0);
         // On the microcontrollers the selection that depends on the point reads a copy of it:
         // lent to the out-of-line selection, `point` itself would be built apart and copied into
-        // the struct after (some 100 instructions per shading point on the M4F). The other
-        // selections take no copy (6 instructions on the M4F), nor does x86, where it would cost.
+        // the struct after, at every shading point. The other selections take no copy, nor does
+        // x86, where it would cost.
         let selection = if cfg!(target_os = "none")
             && <<St::Lights as LightStrategies<L>>::Selection as Select<L>>::LOCAL
         {

@@ -68,10 +68,10 @@ pub fn max0(x: f32) -> f32 {
     if positive { x } else { 0.0 }
 }
 
-/// Whether [`max0`] compares the bits: on the soft-float Arm cores, where it saves about 90
-/// instructions per camera sample on the Veach scene (for 48 bytes more peak stack). On RV32IMC
-/// it cost 49 instructions and 160 bytes of stack instead (the inlined code changed LLVM's
-/// choices around it), so the comparison routine stays there.
+/// Whether [`max0`] compares the bits: on the soft-float Arm cores, where that is fewer
+/// instructions than a call to the comparison routine. On RV32IMC the inlined code changed LLVM's
+/// choices around it and cost instructions and stack instead, so the comparison routine stays
+/// there (the figures: firmware/README.md).
 const MAX0_BY_BITS: bool = SOFT_FLOAT && cfg!(target_arch = "arm");
 
 /// `x > 0.0` from the bits (the soft-float cores' [`max0`]).

@@ -2,9 +2,10 @@
 //! [`sin_cos_turns`]. The argument is reduced to t pi / 4 with |t| <= 1, and the two polynomials
 //! in u = t^2 run in fixed point, each step the high word of one 32 x 32 -> 64-bit multiply (one
 //! instruction on the M4F and RV32IMC, a short routine on the Cortex-M0: about half a soft-float
-//! multiply and add), and integers give the same bits on every machine like IEEE f32 does. The results are f32: cos(t pi / 4) and
-//! sin(t pi / 4) / t lie in [1/2, 1], where Q30 holds more than the 24 bits of a significand, and
-//! the sine is t times the latter in f32, so it keeps its relative precision near zero.
+//! multiply and add), and integers give the same bits on every machine like IEEE f32 does. The
+//! results are f32: cos(t pi / 4) and sin(t pi / 4) / t lie in [1/2, 1], where Q30 holds more
+//! than the 24 bits of a significand, and the sine is t times the latter in f32, so it keeps its
+//! relative precision near zero.
 
 use crate::num::scalar::{SOFT_FLOAT, clamp};
 use crate::num::wide::mul_wide;

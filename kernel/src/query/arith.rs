@@ -1,5 +1,5 @@
 //! The arithmetic of the scene's ray queries: f32 (the default, every target) or fixed point
-//! (`kernel/src/fixed.rs`, feature `fixed`), for cores without an FPU. Shading stays f32 either
+//! (`kernel/src/query/fixed.rs`, feature `fixed`), for cores without an FPU. Shading stays f32 either
 //! way; only the ray queries dispatch on it, so the estimator is written once. The type itself is
 //! always there (a study method names its arithmetic, the host's `picomis_host::study::Extras`); a scene runs in
 //! fixed point only with the feature (`Scene::enable_arith`).

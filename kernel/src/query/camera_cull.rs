@@ -177,7 +177,7 @@ fn slopes(camera: &Camera, shape: &Shape) -> Option<((f32, f32), (f32, f32))> {
 
 /// Widens `ranges` to the view slopes (x / z, y / z) of point `p`, seen by `camera`; false
 /// (leaving them) unless the point is in front. (Out of line: a copy for each of a quad's
-/// corners took a third of a kilobyte of flash on a Cortex-M.)
+/// corners would cost flash on a Cortex-M.)
 #[inline(never)]
 fn widen(camera: &Camera, p: Vec3, ranges: &mut ((f32, f32), (f32, f32))) -> bool {
     let v: Vec3 = camera.view_of(p);

@@ -57,7 +57,7 @@ enum FixedShape {
 /// A ray in units (origin) and Q30 (direction), with its open distance range `(lo, hi)` in
 /// units. The origin (at most 2^28) and the direction (at most 2^30 + 2^21) fit 32 bits: their
 /// products are one 32 x 32 -> 64-bit multiply each (`mul` and `mulh` on RV32IMC, where a full
-/// 64-bit multiply takes about seven instructions).
+/// 64-bit multiply takes several).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct FixedRay {
     o: [i32; 3],
@@ -131,7 +131,7 @@ const NO_DIVIDER: bool = cfg!(all(target_arch = "arm", not(target_abi = "eabihf"
 /// floor(n / d) for 0 <= n < 2^31 d and 1 <= d <= 2^31, bit by bit in 32-bit registers
 /// ([`div_steps`]): the remainder stays below d <= 2^31, so twice it plus a bit fits a u32, and
 /// n >> 31 < d starts it. Replaces the 64-bit division (compiler-builtins' `__aeabi_uldivmod`,
-/// about 440 instructions on the M0), which a quad test pays once per plane hit in range.
+/// hundreds of instructions on the M0), which a quad test pays once per plane hit in range.
 /// Outside the bounds (never reached: the quad test's range check implies them), the 64-bit
 /// division.
 #[inline]
@@ -164,8 +164,8 @@ fn div_steps(mut rem: u32, mut w: u32, d: u32) -> u32 {
 /// floor(n / d) for 0 <= n < 2^31 d and 1 <= d <= 2^31, as [`div_floor`], from two 32-by-16-bit
 /// digit divisions (Knuth's algorithm D for two digits of 16 bits, after Hacker's Delight's
 /// `divlu`): for 32-bit cores that divide 32-bit integers in one instruction (RV32IM's `divu`),
-/// where the 64-bit division is compiler-builtins' `u64_div_rem` (about 340 instructions on
-/// RV32IMC) and the bit loop about 230. d is shifted up until its top bit is set, so that each
+/// where the 64-bit division is compiler-builtins' `u64_div_rem` (hundreds of instructions on
+/// RV32IMC), and so does the bit loop. d is shifted up until its top bit is set, so that each
 /// digit's estimate from the divisor's top 16 bits is at most two too large and the corrections
 /// end. Outside the bounds, the 64-bit division.
 #[inline]
@@ -694,8 +694,8 @@ mod tests {
     }
 
     /// A quad as large as the scene keeps its edges: rays aimed 1e-4 of its size inside or
-    /// outside each edge hit or miss it as in f32 (with Q30 dual axes alone, a 6-unit quad in an
-    /// 8-unit scene reached 1.6 % past its far edges).
+    /// outside each edge hit or miss it as in f32 (with Q30 dual axes alone, a quad nearly as
+    /// large as the scene reached past its far edges).
     #[test]
     fn large_quads_keep_their_edges() {
         let h = 3.0;

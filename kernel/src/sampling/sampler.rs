@@ -9,15 +9,15 @@
 //!   The first [`JOINT_REQUESTS`] requests of camera sample i of a pixel (the pixel position,
 //!   then the first light sample and the first BSDF sample of the multi-sample estimator) take
 //!   Sobol dimensions (2, 3), (0, 1) and (4, 5) of i itself ([`JOINT_PAIRS`]: the light sample
-//!   gets the (0, 2)-sequence), so that they are stratified *jointly*: the pixel
-//!   position with the point on the light and with the BSDF direction, as a 6-D Sobol net. (A
-//!   shadow's or a highlight's edge is a discontinuity in the pixel position and the sample at
-//!   once; on the Veach scene this lowers the error by 12-25 % over shuffled pairs.) Every later
-//!   request is padded (pbrt-v4's `PaddedSobolSampler`): Sobol dimensions 0 and 1 of a shuffled
-//!   index (i Owen-scrambled with the request's hash). The first 2^m samples of a pixel are a
-//!   (t, m, 2)-net in every 2-D request: t = 0 for the light sample and the padded requests,
-//!   t <= 2 for the pixel position's dimensions (2, 3) up to 2^10 samples, and for (4, 5) up to 2^7 (3 at 2^8). Every point is uniformly
-//!   distributed, so estimates stay unbiased. Prefer power-of-two sample counts.
+//!   gets the (0, 2)-sequence), so that they are stratified *jointly*: the pixel position with
+//!   the point on the light and with the BSDF direction, as a 6-D Sobol net. (A shadow's or a
+//!   highlight's edge is a discontinuity in the pixel position and the sample at once.) Every
+//!   later request is padded (pbrt-v4's `PaddedSobolSampler`): Sobol dimensions 0 and 1 of a
+//!   shuffled index (i Owen-scrambled with the request's hash). The first 2^m samples of a pixel
+//!   are a (t, m, 2)-net in every 2-D request: t = 0 for the light sample and the padded
+//!   requests, t <= 2 for the pixel position's dimensions (2, 3) up to 2^10 samples, and for
+//!   (4, 5) up to 2^7 (3 at 2^8). Every point is uniformly distributed, so estimates stay
+//!   unbiased. Prefer power-of-two sample counts.
 
 use crate::num::{SOFT_FLOAT, Vec2};
 
@@ -200,7 +200,7 @@ pub(crate) fn to_unit(bits: u32) -> f32 {
 /// `v as f32 * 2^-24` for `v` below 2^24, from the bits: v = m 2^-shift with the leading one of
 /// m at bit 23, so v 2^-24 has biased exponent 126 - shift, and m's leading one adds the last 1
 /// to the exponent field. (Out of line: RV32IMC has no count-leading-zeros instruction, and
-/// its inline expansion at every call added a kilobyte of flash.)
+/// its inline expansion at every call costs flash.)
 #[inline(never)]
 fn unit_from_bits(v: u32) -> f32 {
     if v == 0 {
