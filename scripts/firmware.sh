@@ -11,7 +11,7 @@
 #                                 ELFs for f64 routines and allocator symbols (scripts/symbols.sh);
 #                                 last line: "firmware: N passed, M failed"
 #   scripts/firmware.sh measure   sizes, static RAM, peak stack, instructions per camera sample;
-#                                 writes firmware/budget.json and the README table from it
+#                                 writes firmware/budget.json and the table of docs/firmware.md from it
 #   scripts/firmware.sh budget    the same measurement, checked against firmware/budget.json
 #                                 (fails on a rise of more than 2 %; writes nothing)
 #   scripts/firmware.sh lint      cargo fmt --check and clippy -D warnings for every target (the
@@ -461,7 +461,7 @@ cmd_measure() {
     step "budget: figures against firmware/budget.json"
     "$ROOT/scripts/budget.sh" check "$figures"
   else
-    step "measure: firmware/budget.json and the README table"
+    step "measure: firmware/budget.json and the table of docs/firmware.md"
     "$ROOT/scripts/budget.sh" write "$figures" && "$ROOT/scripts/budget.sh" readme
   fi
 }
