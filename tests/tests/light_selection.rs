@@ -11,16 +11,22 @@
 //!    in the same direction gets (from `pmf`, as the estimator computes it) sum to one, for every
 //!    heuristic.
 //!
+//! 4. at the extremes of the scene's range, with every selection strategy: lights at the emission
+//!    cap ([`MAX_EMISSION`], 1e20) seen from 1e-12 (their strengths and the sum of the weights
+//!    beyond f32) or from 1e-9 (a sum near f32's largest) beside faint lights, and lights 1e-34
+//!    bright alone (a sum too small for the grid's scale): every light keeps a positive
+//!    probability, the probabilities sum to one, and `select` realises them exactly.
+//!
 //! Scene: sphere lights straddling the horizon, tiny and big; a quad light seen from both sides;
 //! a bright and a dark point light.
 
-use picomis::light::select::ByContribution;
-use picomis::light::{lobe, quad, sphere};
+use picomis::light::select::{ByContribution, ByPower, Uniform};
+use picomis::light::{Select, lobe, quad, sphere};
 use picomis::num::Frame;
 use picomis::sampling::sample_uniform_sphere;
 use picomis::{
-    Film, Heuristic, LightId, LightSampler, Lights, Material, Method, Rgb, Sampler, Scene, ShadingPoint,
-    Shape, SurfacePoint, Technique, Vec3,
+    Film, Heuristic, LightId, LightSampler, Lights, MAX_EMISSION, Material, Method, Rgb, Sampler, Scene,
+    ShadingPoint, Shape, SurfacePoint, Technique, Vec3,
 };
 use picomis_tests::{camera, heuristics, quad_corners};
 
@@ -189,4 +195,96 @@ fn the_light_and_bsdf_weights_of_a_direction_sum_to_one() {
         checked += 1;
     }
     assert!(checked > 1000, "only {checked} light samples checked");
+}
+
+/// Scenes at the extremes of the range, each light above the origin's horizon.
+type ExtremeScene = Scene<1, 4, 1>;
+
+/// `cap` point lights at the emission cap, 1e-12 (or `d`) above the origin and as far apart, and
+/// two faint lights far above: a point light of intensity 1 at 3,000 (importance 1.1e-7 at the
+/// origin) and a sphere light of radiance 1 and radius 1 at 3,000 (3.3e-7).
+fn cap_scene(cap: usize, d: f32) -> ExtremeScene {
+    let mut s: ExtremeScene = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
+    let black = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
+    for k in 0..cap {
+        s.add_point_light(Vec3::new(k as f32 * d, d, 0.0), Rgb::splat(MAX_EMISSION)).unwrap();
+    }
+    s.add_point_light(Vec3::new(0.0, 3000.0, 0.0), Rgb::ONE).unwrap();
+    let id = s.add_shape(Shape::sphere(Vec3::new(1000.0, 3000.0, 0.0), 1.0).unwrap(), black).unwrap();
+    s.add_area_light(id, Rgb::ONE).unwrap();
+    s
+}
+
+/// Three point lights of intensity 1e-34 and a sphere light of radiance 1e-34 around the
+/// origin: the sums of their powers (5e-33) and importances (4e-34) are below 2^-104, where
+/// 2^24 / sum is beyond f32.
+fn faint_scene() -> ExtremeScene {
+    let mut s: ExtremeScene = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
+    let black = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
+    let faint = Rgb::splat(1e-34);
+    for x in [-1.0, 0.0, 1.0] {
+        s.add_point_light(Vec3::new(x, 1.0, 0.5), faint).unwrap();
+    }
+    let id = s.add_shape(Shape::sphere(Vec3::new(0.0, 2.0, -1.0), 0.5).unwrap(), black).unwrap();
+    s.add_area_light(id, faint).unwrap();
+    s
+}
+
+/// Every light of `s` (all above the origin's horizon, all emitting) keeps a positive probability
+/// under selection `Sel` at the origin (normal +y, seen from +y) of a Lambertian, a near-mirror
+/// and a rough GGX receiver; the probabilities sum to one, and over all 2^24 values of the
+/// random number `select` chooses each light as often as `pmf` says (exactly, but for uniform's
+/// rounding of 1 / n).
+fn every_light_keeps_its_probability<Sel: Select<4>>(label: &str, s: &ExtremeScene) {
+    let lights = LightSampler::<Lights<Sel, sphere::InCone, quad::ByArea, lobe::Off>, 1, 4, 1>::new(s);
+    const GRID: u32 = 1 << 24;
+    let n = s.lights().len();
+    for bsdf in [Material::lambertian(Rgb::splat(0.5)).unwrap(), ggx(1e-2), ggx(0.5)] {
+        let point = ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo: Vec3::Y, bsdf };
+        let at = lights.selection_at(&point);
+        let pmf: Vec<f32> = (0..n).map(|i| lights.pmf(&at, LightId::new(i as u16))).collect();
+        let label = format!("{label}, {:?}, {bsdf:?}: pmf {pmf:?}", Sel::KIND);
+        assert!(pmf.iter().all(|&p| p > 0.0), "{label}: a light without a probability");
+        // Exactly for the grid's distributions; uniform's 1 / n to within f32's rounding.
+        assert!((pmf.iter().map(|&p| f64::from(p)).sum::<f64>() - 1.0).abs() < 1e-6, "{label}");
+        let mut counts = vec![0u32; n];
+        for u in 0..GRID {
+            let chosen =
+                lights.select(&at, u as f32 / GRID as f32).unwrap_or_else(|| panic!("{label}: none"));
+            assert_eq!(chosen.probability, pmf[chosen.light.index()], "{label}");
+            counts[chosen.light.index()] += 1;
+        }
+        for (i, &c) in counts.iter().enumerate() {
+            // Exactly for the grid's distributions (selection by power and by contribution);
+            // within one value of the grid for uniform's 1 / n.
+            let off = (f64::from(c) - f64::from(pmf[i]) * f64::from(GRID)).abs();
+            assert!(off < 1.0, "{label}, light {i}: chosen {c} times");
+        }
+    }
+}
+
+fn with_every_selection(label: &str, s: &ExtremeScene) {
+    every_light_keeps_its_probability::<Uniform>(label, s);
+    every_light_keeps_its_probability::<ByPower<4>>(label, s);
+    every_light_keeps_its_probability::<ByContribution<4>>(label, s);
+}
+
+#[test]
+fn every_light_keeps_a_probability_beside_lights_at_the_emission_cap() {
+    // Two lights at the cap 1e-12 away: strengths 1e44, beyond f32, and so is the sum of the
+    // weights. (Before the strengths were clamped, the lights at the cap had no cone and
+    // probability zero; before the sum was divided by the largest weight, the floor share
+    // vanished against it; with the division alone, the faint lights' weights, 1e-7 / 3.4e38,
+    // rounded to zero.)
+    with_every_selection("two lights at the cap 1e-12 away", &cap_scene(2, 1e-12));
+    // One light at the cap 1e-9 away: a finite sum of 1e38, whose floor share 0.1 / 1e38 times
+    // a faint light's 1e-7 rounds to zero on a GGX receiver unless kept.
+    with_every_selection("one light at the cap 1e-9 away", &cap_scene(1, 1e-9));
+}
+
+#[test]
+fn faint_lights_keep_their_probabilities() {
+    // Before: 2^24 / sum was infinite, every share took the whole grid and the ends wrapped: the
+    // probabilities summed to more than one and the first light was never chosen.
+    with_every_selection("lights of 1e-34", &faint_scene());
 }

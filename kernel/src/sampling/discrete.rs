@@ -268,4 +268,35 @@ mod tests {
         assert_eq!(GridDistribution::<2>::new(&[0.0]).sample(0.5), None);
         assert_eq!(d.pmf(9), 0.0);
     }
+
+    /// Weights whose sum is below 2^-104 (2^24 / sum beyond f32) or beyond f32 give the
+    /// distribution of the same weights scaled into range, every positive weight at least one
+    /// grid value, the probabilities summing to one. (Before: the tiny sums' scale was infinite,
+    /// every share took the whole grid and the probabilities summed to 3; the sums beyond f32
+    /// gave an empty distribution.)
+    #[test]
+    fn sums_out_of_range_keep_the_distribution() {
+        let shape = [3.0f32, 1.0, 0.0, 2.0];
+        let want = GridDistribution::<4>::new(&shape);
+        for scale in [1e-40f32, 1e-36, 1e38] {
+            let w = shape.map(|x| x * scale);
+            let d = GridDistribution::<4>::new(&w);
+            let sum: f32 = (0..4).map(|i| d.pmf(i)).sum();
+            assert_eq!(sum, 1.0, "{w:?}");
+            for i in 0..4 {
+                assert!((d.pmf(i) - want.pmf(i)).abs() <= 1.0 / GRID as f32, "{w:?}: entry {i}");
+            }
+        }
+        // A faint weight beside two at f32's largest keeps a value; an infinite one empties it.
+        let d = GridDistribution::<3>::new(&[f32::MAX, f32::MAX, 1e-30]);
+        assert!(d.pmf(2) > 0.0 && (d.pmf(0) - 0.5).abs() < 1e-6, "{d:?}");
+        assert_eq!((0..3).map(|i| d.pmf(i)).sum::<f32>(), 1.0);
+        assert!(GridDistribution::<2>::new(&[f32::INFINITY, 1.0]).is_empty());
+        // The smallest positive weight alone, and beside larger tiny ones.
+        assert_eq!(GridDistribution::<1>::new(&[f32::from_bits(1)]).pmf(0), 1.0);
+        let d = GridDistribution::<2>::new(&[f32::from_bits(1), 1e-33]);
+        assert!(d.pmf(0) > 0.0 && d.pmf(1) > 0.99, "{d:?}");
+        assert_eq!(TINY_TOTAL, 2.0f32.powi(-100));
+        assert_eq!(TWO_64, 2.0f32.powi(64));
+    }
 }

@@ -81,8 +81,9 @@ impl<const L: usize> Select<L> for ByContribution<L> {
 
 /// The sum of the finite, non-negative weights `w`, made finite: where it overflows (lights near
 /// the 1e20 emission cap seen from close by), every weight is first divided by the largest, in
-/// place (the distribution they give is the same), so that no light's share, nor the floor
-/// share of the mixture, rounds to zero against an infinite sum.
+/// place (the distribution they give is the same), a positive one to at least
+/// [`f32::MIN_POSITIVE`] (below 1e-45 of the largest, it would round to none), so that no
+/// light's share, nor the floor share of the mixture, rounds to zero against an infinite sum.
 #[inline]
 fn finite_sum(w: &mut [f32]) -> f32 {
     let sum = w.iter().sum::<f32>();
@@ -93,7 +94,7 @@ fn finite_sum(w: &mut [f32]) -> f32 {
     if !(largest > 0.0 && largest.is_finite()) {
         return sum;
     }
-    w.iter_mut().for_each(|v| *v /= largest);
+    w.iter_mut().filter(|v| **v > 0.0).for_each(|v| *v = (*v / largest).max(f32::MIN_POSITIVE));
     w.iter().sum::<f32>()
 }
 
@@ -138,7 +139,16 @@ impl<const L: usize> ByContribution<L> {
                 (_, false) => (1.0, 0.0),
             };
             for (i, c) in importance.iter_mut().zip(contribution.iter()) {
-                *i = *i * scale_i + *c * scale_c;
+                let mixed = *i * scale_i + *c * scale_c;
+                // A light with a weight keeps a share where its part of the mixture falls below
+                // f32's normal range, or to none (a weight under 1e-37 of its sum: beside lights
+                // at the emission cap). The same grid values either way: any positive weight
+                // gets at least one.
+                *i = if mixed < f32::MIN_POSITIVE && (*i > 0.0 || *c > 0.0) {
+                    f32::MIN_POSITIVE
+                } else {
+                    mixed
+                };
             }
         } else {
             finite_sum(importance);
