@@ -62,9 +62,12 @@ fn e_several_lights_uniform_selection() {
 
 #[test]
 fn e_several_lights_power_selection() {
-    // (Streams 7000.. gave z = -4.7 for the independent stream with area sampling and the maximum
-    // heuristic, whose heavy tail (rare huge f / p) makes the mean of 200,000 estimates skewed.)
-    check_many(LightSelection::Power, 7050);
+    // The streams first chosen, back after a move to 7050 (issue 37, item 11). Stream 7007 (the
+    // independent stream, area sampling, the maximum heuristic) fails, z = -4.59 in channel 0, by
+    // chance rather than bias: the same check on streams 7000 to 7999 has z of mean +0.01 ± 0.03
+    // and spread 1.005 with one |z| > 4 (7007 itself), and stream 7007 continued to 3.2 million
+    // estimates has z = -0.46 (tests/examples/four_lights_streams.rs).
+    check_many(LightSelection::Power, 7000);
 }
 
 #[test]
