@@ -62,12 +62,14 @@ fn e_several_lights_uniform_selection() {
 
 #[test]
 fn e_several_lights_power_selection() {
-    // The streams first chosen, back after a move to 7050 (issue 37, item 11). Stream 7007 (the
-    // independent stream, area sampling, the maximum heuristic) fails, z = -4.59 in channel 0, by
-    // chance rather than bias: the same check on streams 7000 to 7999 has z of mean +0.01 ± 0.03
-    // and spread 1.005 with one |z| > 4 (7007 itself), and stream 7007 continued to 3.2 million
-    // estimates has z = -0.46 (tests/examples/four_lights_streams.rs).
-    check_many(LightSelection::Power, 7000);
+    // Streams 7050.., moved from 7000 after a failure: stream 7007 (the independent stream, area
+    // sampling, the maximum heuristic) gives z = -4.59 in channel 0, by chance rather than bias:
+    // the same check on streams 7000 to 7999 has z of mean +0.01 ± 0.03 and spread 1.005 with one
+    // |z| > 4 (7007 itself), and stream 7007 continued to 3.2 million estimates has z = -0.46
+    // (tests/examples/four_lights_streams.rs). With ~340 such checks at |z| < 4 one fails by
+    // chance on 2-3 % of redraws: the suite needs a family-wise level before the streams can go
+    // back (issue 37, item 11).
+    check_many(LightSelection::Power, 7050);
 }
 
 #[test]
