@@ -98,7 +98,7 @@ impl<const N: usize> GridDistribution<N> {
     /// not positive get no value. Empty (it samples nothing) when no weight is positive, or one
     /// is infinite. Weights whose sum is beyond f32, or so small that the scale onto the grid
     /// would be (below [`TINY_TOTAL`]), are first scaled by a power of two
-    /// ([`GridDistribution::rescaled`]): the same distribution, every positive weight still
+    /// (`GridDistribution::rescaled`): the same distribution, every positive weight still
     /// positive.
     pub fn new(weights: &[f32]) -> Self {
         let weights = weights.get(..N).unwrap_or(weights);
