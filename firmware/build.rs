@@ -120,12 +120,7 @@ fn run() -> Result<(), BoxError> {
     // The scene module: the scene built for this film as an image, the settings as constants
     // and the strategy types they name (`PICOMIS_PRESET`: a preset's settings instead of the
     // file's block). The same generator a user's build script calls.
-    let preset = match var("PICOMIS_PRESET") {
-        Some(name) => Some(picomis::Preset::from_name(name.trim()).ok_or_else(|| {
-            format!("PICOMIS_PRESET={name:?}: expected {}", picomis::choice::Names::<picomis::Preset>::of())
-        })?),
-        None => None,
-    };
+    let preset = picomis_format::build::preset_from_env()?;
     let firmware = picomis_format::build::Firmware {
         preset,
         spp: number("PICOMIS_SPP")?,

@@ -27,15 +27,9 @@ fn main() {
         .unwrap_or_else(|| manifest.join("../../scenes/veach_mis.json"));
     // `PICOMIS_PRESET=lecture`: the course's estimator instead of the file's integrator block
     // (smaller and faster per sample; see the README's frame times).
-    println!("cargo:rerun-if-env-changed=PICOMIS_PRESET");
-    let preset = env::var("PICOMIS_PRESET").ok().map(|name| {
-        picomis::Preset::from_name(name.trim()).unwrap_or_else(|| {
-            eprintln!(
-                "PICOMIS_PRESET={name:?}: expected {}",
-                picomis::choice::Names::<picomis::Preset>::of()
-            );
-            std::process::exit(1)
-        })
+    let preset = picomis_format::build::preset_from_env().unwrap_or_else(|e| {
+        eprintln!("{e}");
+        std::process::exit(1)
     });
     let firmware = picomis_format::build::Firmware {
         preset,

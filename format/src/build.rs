@@ -67,6 +67,19 @@ pub struct Firmware {
     pub module_file: String,
 }
 
+/// The preset named by the environment variable `PICOMIS_PRESET` (`lecture`, `best`), for a
+/// build script's [`Firmware::preset`]: `None` when it is unset or empty. Tells cargo to rerun the
+/// build script when it changes. Any other name is an error that lists the presets.
+pub fn preset_from_env() -> Result<Option<Preset>, String> {
+    println!("cargo:rerun-if-env-changed=PICOMIS_PRESET");
+    match std::env::var("PICOMIS_PRESET").ok().filter(|v| !v.trim().is_empty()) {
+        Some(name) => Preset::from_name(name.trim()).map(Some).ok_or_else(|| {
+            format!("PICOMIS_PRESET={name:?}: expected {}", picomis::choice::Names::<Preset>::of())
+        }),
+        None => Ok(None),
+    }
+}
+
 impl Firmware {
     /// The scene file `scene` for a `width` x `height` display, its integrator block's settings
     /// at 1 spp, seed 0, into `OUT_DIR/picomis_scene.rs`.
