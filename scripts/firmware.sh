@@ -78,18 +78,19 @@ qemu_of() { case "$1" in $RV) echo qemu-system-riscv32 ;; *) echo qemu-system-ar
 # build NAME TARGET FEATURES-ARGS SCENE W H SPP SEED: builds one variant, copies its ELF to
 # $WORK/NAME.elf. FEATURES-ARGS is e.g. "", "--features rtt", "--no-default-features --features rtt".
 # With PRESET set (lecture, best): that preset's settings instead of the scene file's block (the
-# host render of check_render takes --preset too).
+# host render of check_render takes --preset too). PROFILE: the Cargo profile (default firmware;
+# firmware-small is the same optimised for size).
 build() {
   local name=$1 target=$2 feats=$3 scene=$4 w=$5 h=$6 spp=$7 seed=$8
   mkdir -p "$WORK"
   # shellcheck disable=SC2086
   if ! (cd "$FW" && CARGO_TARGET_DIR="$TD" PICOMIS_SCENE="$scene" PICOMIS_WIDTH="$w" PICOMIS_HEIGHT="$h" \
       PICOMIS_SPP="$spp" PICOMIS_SEED="$seed" PICOMIS_OUT="$name.rgb565" PICOMIS_PRESET="${PRESET:-}" \
-      cargo build --profile firmware --quiet --target "$target" $feats) >"$WORK/$name.build.log" 2>&1; then
+      cargo build --profile "${PROFILE:-firmware}" --quiet --target "$target" $feats) >"$WORK/$name.build.log" 2>&1; then
     cat "$WORK/$name.build.log" >&2
     return 1
   fi
-  cp "$TD/$target/firmware/picomis-firmware" "$WORK/$name.elf"
+  cp "$TD/$target/${PROFILE:-firmware}/picomis-firmware" "$WORK/$name.elf"
 }
 
 # run NAME TARGET [extra qemu args]: runs $WORK/NAME.elf under QEMU in $WORK (output file and
@@ -387,6 +388,11 @@ cmd_measure() {
     PRESET=best build "$pre-best-size-board" "$target" "--no-default-features --features rtt" "$VEACH" "${film%x*}" "${film#*x}" 1 0 ||
       die "build failed"
     PRESET=best build "$pre-best-measure" "$target" "--features measure" "$VEACH" 64 48 1 0 || die "build failed"
+    # The same built for size (profile firmware-small, opt-level "z"): the build for 32 KiB parts.
+    PRESET=best PROFILE=firmware-small build "$pre-best-small-size-board" "$target" "--no-default-features --features rtt" \
+      "$VEACH" "${film%x*}" "${film#*x}" 1 0 || die "build failed"
+    PRESET=best PROFILE=firmware-small build "$pre-best-small-measure" "$target" "--features measure" "$VEACH" 64 48 1 0 ||
+      die "build failed"
     # Instruction counts: the Veach scene at 64x48, 1 spp, on every core (the same work).
     PRESET=lecture build "$pre-measure" "$target" "--features measure" "$VEACH" 64 48 1 0 || die "build failed"
   done
@@ -446,16 +452,21 @@ cmd_measure() {
     [ -n "$per" ] || die "$core fixed: no instructions per camera sample"
     printf '%s_fixed_instructions_per_camera_sample %s\n' "$(tr '[:upper:]' '[:lower:]' <<<"$core")" "$per" >>"$figures"
   done
-  # The best preset (the defaults): instructions per camera sample and the board build's flash.
-  for c in "${CORES[@]}"; do
-    read -r core pre target film goal <<<"$c"
-    run_qemu "$pre-best-measure" "$target" || die "$pre-best-measure: QEMU exit status $? (log $WORK/$pre-best-measure.log)"
-    per=$(sed -n 's/^measure: camera_sample: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-best-measure.log")
-    [ -n "$per" ] || die "$core best: no instructions per camera sample"
-    read -r v t r d b u < <(sections "$WORK/$pre-best-size-board.elf")
-    say "$core, best preset: $per instructions per camera sample; board build: text $t, rodata $r"
-    printf '%s_best_instructions_per_camera_sample %s\n%s_best_flash_text_bytes %s\n' \
-      "$(tr '[:upper:]' '[:lower:]' <<<"$core")" "$per" "$(tr '[:upper:]' '[:lower:]' <<<"$core")" "$t" >>"$figures"
+  # The best preset (the defaults), built for speed (best_) and for size (best_small_):
+  # instructions per camera sample and the board build's flash.
+  local kind key
+  for kind in best best-small; do
+    key=${kind//-/_}
+    for c in "${CORES[@]}"; do
+      read -r core pre target film goal <<<"$c"
+      run_qemu "$pre-$kind-measure" "$target" || die "$pre-$kind-measure: QEMU exit status $? (log $WORK/$pre-$kind-measure.log)"
+      per=$(sed -n 's/^measure: camera_sample: per camera sample \([0-9.]*\) .*/\1/p' "$WORK/$pre-$kind-measure.log")
+      [ -n "$per" ] || die "$core $kind: no instructions per camera sample"
+      read -r v t r d b u < <(sections "$WORK/$pre-$kind-size-board.elf")
+      say "$core, $kind: $per instructions per camera sample; board build: text $t, rodata $r"
+      printf '%s_%s_instructions_per_camera_sample %s\n%s_%s_flash_text_bytes %s\n' \
+        "$(tr '[:upper:]' '[:lower:]' <<<"$core")" "$key" "$per" "$(tr '[:upper:]' '[:lower:]' <<<"$core")" "$key" "$t" >>"$figures"
+    done
   done
   if [ "${1:-}" = check ]; then
     step "budget: figures against firmware/budget.json"

@@ -41,17 +41,17 @@ pub fn check(budget: &Figures, measured: &Figures, out: &mut impl Write) -> Resu
         let line = match judge(committed.value, now.value, key.target()) {
             Verdict::AboveTolerance => {
                 format!(
-                    "OVER  {:<44} {:>12} > {} + {TOLERANCE_PERCENT} %",
+                    "OVER  {:<49} {:>12} > {} + {TOLERANCE_PERCENT} %",
                     name(key),
                     now.text,
                     committed.text
                 )
             }
             Verdict::CrossesTarget(target) => {
-                format!("OVER  {:<44} {:>12} > the target {target}", name(key), now.text)
+                format!("OVER  {:<49} {:>12} > the target {target}", name(key), now.text)
             }
             Verdict::Within => {
-                format!("ok    {:<44} {:>12} (committed {})", name(key), now.text, committed.text)
+                format!("ok    {:<49} {:>12} (committed {})", name(key), now.text, committed.text)
             }
         };
         over |= line.starts_with("OVER");

@@ -74,14 +74,18 @@ pub enum Figure {
     BestInstructions,
     /// Flash text of the board build, the best preset, bytes.
     BestFlashText,
+    /// Instructions per camera sample, the best preset built for size (profile firmware-small).
+    BestSmallInstructions,
+    /// Flash text of the board build, the best preset built for size, bytes.
+    BestSmallFlashText,
 }
 
 use Figure::*;
 
 /// The lecture settings' figures of every core, in budget.json's order.
 const LECTURE: [Figure; 5] = [Instructions, FlashText, Rodata, StaticRam, PeakStack];
-/// The best preset's figures of every core.
-const BEST: [Figure; 2] = [BestInstructions, BestFlashText];
+/// The best preset's figures of every core: built for speed, then for size.
+const BEST: [Figure; 4] = [BestInstructions, BestFlashText, BestSmallInstructions, BestSmallFlashText];
 
 impl Figure {
     /// The key's part after the core's prefix.
@@ -95,6 +99,8 @@ impl Figure {
             FixedInstructions => "fixed_instructions_per_camera_sample",
             BestInstructions => "best_instructions_per_camera_sample",
             BestFlashText => "best_flash_text_bytes",
+            BestSmallInstructions => "best_small_instructions_per_camera_sample",
+            BestSmallFlashText => "best_small_flash_text_bytes",
         }
     }
 
@@ -105,17 +111,18 @@ impl Figure {
 
     /// The figure's stated target on `core`, if it has one: instructions per camera sample (the
     /// fixed-point build's on the cores that have one, whose f32 build is not held to it; every
-    /// core's best preset), flash text (the lecture settings' per core, the best settings'
-    /// [`TARGET_FLASH`]), static RAM, peak stack.
+    /// core's best preset built for speed), flash text (the lecture settings' per core, the best
+    /// settings' [`TARGET_FLASH`] built either way), static RAM, peak stack. The build for size
+    /// trades instructions for flash: its instructions are a budget without a target.
     pub fn target(self, core: &Core) -> Option<u32> {
         match self {
             Instructions => (!core.fixed).then_some(core.instructions_target),
             FixedInstructions | BestInstructions => Some(core.instructions_target),
             FlashText => Some(core.lecture_flash_target),
-            BestFlashText => Some(TARGET_FLASH),
+            BestFlashText | BestSmallFlashText => Some(TARGET_FLASH),
             StaticRam => Some(TARGET_RAM),
             PeakStack => Some(TARGET_STACK),
-            Rodata => None,
+            Rodata | BestSmallInstructions => None,
         }
     }
 }
@@ -165,14 +172,20 @@ mod tests {
     #[test]
     fn keys_in_budget_json_order() {
         let keys = names(&written_keys());
-        assert_eq!(keys.len(), 3 * 5 + 2 + 3 * 2);
+        assert_eq!(keys.len(), 3 * 5 + 2 + 3 * 4);
         assert_eq!(keys[0], "m4f_instructions_per_camera_sample");
         assert_eq!(keys[14], "rv32imc_peak_stack_bytes");
         assert_eq!(
             keys[15..17],
             ["m0_fixed_instructions_per_camera_sample", "rv32imc_fixed_instructions_per_camera_sample"]
         );
-        assert_eq!(keys[22], "rv32imc_best_flash_text_bytes");
+        assert_eq!(keys[17..21], [
+            "m4f_best_instructions_per_camera_sample",
+            "m4f_best_flash_text_bytes",
+            "m4f_best_small_instructions_per_camera_sample",
+            "m4f_best_small_flash_text_bytes"
+        ]);
+        assert_eq!(keys[28], "rv32imc_best_small_flash_text_bytes");
         let budgets = names(&budget_keys());
         assert_eq!(budgets.len(), keys.len() - 3);
         assert!(budgets.iter().all(|key| !key.ends_with("rodata_bytes")));
@@ -188,6 +201,8 @@ mod tests {
         assert_eq!(target(2, BestInstructions), Some(20000));
         assert_eq!(target(0, FlashText), Some(28672));
         assert_eq!(target(0, BestFlashText), Some(TARGET_FLASH));
+        assert_eq!(target(1, BestSmallFlashText), Some(TARGET_FLASH));
+        assert_eq!(target(1, BestSmallInstructions), None);
         assert_eq!(target(2, StaticRam), Some(TARGET_RAM));
         assert_eq!(target(2, PeakStack), Some(TARGET_STACK));
         assert_eq!(target(0, Rodata), None);
