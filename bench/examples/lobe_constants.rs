@@ -202,9 +202,7 @@ fn camera_sample(m: &Mixture<'_>, settings: &RenderSettings, x: u32, y: u32, ind
     let film = scene.film();
     let mut sampler = Sampler::with_kind(settings.sampler(), settings.seed(), y * film.width() + x, index);
     let jitter = sampler.next_2d();
-    let uv =
-        Vec2::new((x as f32 + jitter.x) / film.width() as f32, (y as f32 + jitter.y) / film.height() as f32);
-    let (ray, t_near) = scene.camera().ray(uv);
+    let (ray, t_near) = scene.camera().ray_at_pixel(Vec2::new(x as f32 + jitter.x, y as f32 + jitter.y));
     match scene.intersect(&ray, t_near, f32::INFINITY, None) {
         Some(hit) if hit.front => direct(m, settings.method(), &hit, -ray.dir, &mut sampler),
         _ => Rgb::ZERO,
@@ -221,9 +219,10 @@ fn direct(m: &Mixture<'_>, method: Method, x: &Hit, wo_world: Vec3, sampler: &mu
     let (lights, scene) = (&m.own, m.own.scene());
     let mut sum = Rgb::ZERO;
     let Some(bsdf) = scene.material(x.object).filter(|m| !m.is_black()) else { return sum };
+    // The receiver as the kernel's estimator sees it: its BSDF from wo (`Outgoing`).
     let frame = Frame::from_normal(x.point.n);
     let at = ShadingPoint { p: x.point.p, n: x.point.n, wo: wo_world, bsdf: *bsdf };
-    let wo = frame.to_local(wo_world);
+    let seen = bsdf.seen_from(bsdf.to_local(&frame, wo_world));
     let selection = lights.selection_at(&at);
     let (u_select, v) = sampler.next_2d_reusable();
     if let Some((chosen, ls)) = lights
@@ -231,7 +230,7 @@ fn direct(m: &Mixture<'_>, method: Method, x: &Hit, wo_world: Vec3, sampler: &mu
         .and_then(|(c, u)| Some((c, m.sample(c.light, &at, Vec2::new(u, v))?)))
     {
         let p_light = chosen.probability * ls.pdf;
-        let (f, p_bsdf) = bsdf.eval_pdf(wo, frame.to_local(ls.wi));
+        let (f, p_bsdf) = seen.eval_pdf(bsdf.to_local(&frame, ls.wi));
         let shadow = Ray { origin: at.p, dir: ls.wi };
         if f != Rgb::ZERO
             && ls.radiance != Rgb::ZERO
@@ -241,12 +240,12 @@ fn direct(m: &Mixture<'_>, method: Method, x: &Hit, wo_world: Vec3, sampler: &mu
             sum += bounded(f * ls.radiance * (w / p_light));
         }
     }
-    if let Some(bs) = bsdf.sample(wo, sampler.next_2d()) {
+    if let Some(bs) = seen.sample(sampler.next_2d()) {
         let ray = Ray { origin: at.p, dir: frame.to_world(bs.wi) };
         if let Some((y, light, radiance)) = scene.emitter_hit(&ray, x.object) {
             if radiance != Rgb::ZERO {
                 let p_light = lights.pmf(&selection, light) * m.pdf(light, &at, &y.point);
-                let w = method.weight(Technique::Bsdf, p_light, bsdf.pdf(wo, bs.wi));
+                let w = method.weight(Technique::Bsdf, p_light, seen.pdf(bs.wi));
                 sum += bounded(bs.weight * radiance * w);
             }
         }

@@ -146,6 +146,22 @@ pub fn check_z(
     se_exact: f64,
     max_rel_stderr: f64,
 ) -> Result<(), String> {
+    check_z_within(label, mean, se, n, exact, se_exact, max_rel_stderr, 4.0)
+}
+
+/// [`check_z`] with the threshold `z_max` on |mean - exact| / stderr in place of 4 (for a
+/// family of tests: [`family_z`]).
+#[allow(clippy::too_many_arguments)]
+pub fn check_z_within(
+    label: &str,
+    mean: f64,
+    se: f64,
+    n: u64,
+    exact: f64,
+    se_exact: f64,
+    max_rel_stderr: f64,
+    z_max: f64,
+) -> Result<(), String> {
     if !(exact.is_finite() && exact != 0.0 && se_exact.is_finite()) {
         return Err(format!("{label}: reference {exact} (stderr {se_exact}) is not a usable reference"));
     }
@@ -159,11 +175,12 @@ pub fn check_z(
             100.0 * se / exact.abs()
         ));
     }
-    let tol = 4.0 * se + F32_ROUNDING * exact.abs();
+    let tol = z_max * se + F32_ROUNDING * exact.abs();
     let z = if se > 0.0 { (mean - exact) / se } else { 0.0 };
     if (mean - exact).abs() > tol {
         return Err(format!(
-            "{label}: mean {mean:.6e} vs exact {exact:.6e} (rel. error {:+.3e}), stderr {se:.3e}, z = {z:.2}, n = {n}",
+            "{label}: mean {mean:.6e} vs exact {exact:.6e} (rel. error {:+.3e}), stderr {se:.3e}, z = {z:.2} \
+             beyond {z_max:.2}, n = {n}",
             (mean - exact) / exact
         ));
     }
@@ -178,10 +195,28 @@ pub const Z_LEVEL: f64 = 6.334_248_366_623_996e-5;
 /// which is 4 for many degrees of freedom and more for few (4.62 for 31, the standard error of 32
 /// independent scrambles).
 pub fn z_threshold(dof: f64) -> f64 {
-    if dof.is_nan() || dof >= 1e6 {
+    t_threshold(dof, Z_LEVEL)
+}
+
+/// [`z_threshold`] at the two-sided level `level`: Student's t quantile for `dof` degrees of
+/// freedom, the normal one for many.
+pub fn t_threshold(dof: f64, level: f64) -> f64 {
+    if level == Z_LEVEL && (dof.is_nan() || dof >= 1e6) {
         return 4.0;
     }
-    StudentsT::new(0.0, 1.0, dof.max(1.0)).map_or(f64::INFINITY, |t| t.inverse_cdf(1.0 - Z_LEVEL / 2.0))
+    if dof.is_nan() || dof >= 1e6 {
+        return family_z(1.0, level);
+    }
+    StudentsT::new(0.0, 1.0, dof.max(1.0)).map_or(f64::INFINITY, |t| t.inverse_cdf(1.0 - level / 2.0))
+}
+
+/// The threshold on |z| (normal) of each of `tests` z-tests such that the chance that any of
+/// them fails by chance is at most `family_level` (Bonferroni: each at the two-sided level
+/// family_level / tests). A suite of many checks at |z| < 4 each fails by chance on a fixed
+/// share of its redraws; at this threshold on at most `family_level` of them.
+pub fn family_z(tests: f64, family_level: f64) -> f64 {
+    statrs::distribution::Normal::new(0.0, 1.0)
+        .map_or(f64::INFINITY, |n| n.inverse_cdf(1.0 - family_level / tests.max(1.0) / 2.0))
 }
 
 /// An estimate of a mean with its standard error and that error's degrees of freedom: from
@@ -248,6 +283,29 @@ pub fn check_means(
     reference: &MeanEstimate,
     max_rel_stderr: f64,
 ) -> Result<f64, String> {
+    check_means_at(label, est, reference, max_rel_stderr, Z_LEVEL)
+}
+
+/// [`check_mean`] at the two-sided level `level` (for a family of tests: [`family_z`]'s level).
+pub fn check_mean_at(
+    label: &str,
+    est: &MeanEstimate,
+    exact: f64,
+    max_rel_stderr: f64,
+    level: f64,
+) -> Result<f64, String> {
+    let exact = MeanEstimate { mean: exact, stderr: 0.0, n: 0, dof: f64::INFINITY };
+    check_means_at(label, est, &exact, max_rel_stderr, level)
+}
+
+/// [`check_means`] at the two-sided level `level`.
+pub fn check_means_at(
+    label: &str,
+    est: &MeanEstimate,
+    reference: &MeanEstimate,
+    max_rel_stderr: f64,
+    level: f64,
+) -> Result<f64, String> {
     let exact = reference.mean;
     let (mean, n) = (est.mean, est.n);
     let se = est.stderr.hypot(reference.stderr);
@@ -267,7 +325,7 @@ pub fn check_means(
             100.0 * se / exact.abs()
         ));
     }
-    let threshold = z_threshold(dof);
+    let threshold = t_threshold(dof, level);
     let z = if se > 0.0 { (mean - exact) / se } else { 0.0 };
     if (mean - exact).abs() > threshold * se + F32_ROUNDING * exact.abs() {
         return Err(format!(
@@ -290,8 +348,23 @@ pub fn assert_unbiased(label: &str, stats: &Stats, exact: f64, max_rel_stderr: f
 /// [`assert_unbiased`] on each colour channel.
 #[track_caller]
 pub fn assert_unbiased_rgb(label: &str, stats: &RgbStats, exact: [f64; 3], max_rel_stderr: f64) {
+    assert_unbiased_rgb_within(label, stats, exact, max_rel_stderr, 4.0);
+}
+
+/// [`assert_unbiased_rgb`] with the threshold `z_max` in place of 4 (a family's: [`family_z`]).
+#[track_caller]
+pub fn assert_unbiased_rgb_within(
+    label: &str,
+    stats: &RgbStats,
+    exact: [f64; 3],
+    max_rel_stderr: f64,
+    z_max: f64,
+) {
     for (c, (s, e)) in stats.0.iter().zip(exact).enumerate() {
-        assert_unbiased(&format!("{label} [channel {c}]"), s, e, max_rel_stderr);
+        let label = format!("{label} [channel {c}]");
+        if let Err(e) = check_z_within(&label, s.mean(), s.stderr(), s.n(), e, 0.0, max_rel_stderr, z_max) {
+            panic!("{e}");
+        }
     }
 }
 
@@ -345,6 +418,16 @@ mod tests {
         let mut c = Stats::new();
         (0..100).for_each(|_| c.push(2.0));
         assert_eq!(c.variance_stderr(), 0.0);
+    }
+
+    #[test]
+    fn family_z_is_bonferronis() {
+        // One test at the level of |z| > 4 is 4; a thousand at a family level of 1e-3 each
+        // stand at 1e-6 two-sided: 4.89.
+        assert!((family_z(1.0, Z_LEVEL) - 4.0).abs() < 1e-6, "{}", family_z(1.0, Z_LEVEL));
+        assert!((family_z(1000.0, 1e-3) - 4.891_638).abs() < 1e-4, "{}", family_z(1000.0, 1e-3));
+        assert!(t_threshold(31.0, 1e-6) > family_z(1.0, 1e-6));
+        assert!((t_threshold(f64::INFINITY, 1e-6) - family_z(1.0, 1e-6)).abs() < 1e-12);
     }
 
     #[test]

@@ -78,10 +78,10 @@ impl LobeSampler for On {
 
 /// The lobe's part applies where the GGX alpha is below this fraction of the sine of the light's
 /// angular radius: a lobe narrower than the light has a rim and a glow that neither the light's
-/// nor the BSDF's samples find; where the lobe is wider, the light's own samples are good. (Veach
-/// scene, 64 spp, selection by contribution, relative MSE against the committed Mitsuba
-/// reference, measured while tuning with a Cauchy density across the box and a lobe share of
-/// 1/2: 2.12e-4 at 1/2, 2.39e-4 at 1, 3.44e-4 at every GGX receiver, 3.96e-4 without the lobe.)
+/// nor the BSDF's samples find; where the lobe is wider, the light's own samples are good.
+/// (Chosen by relative MSE at equal spp, `bench/examples/lobe_constants.rs`, run committed in
+/// docs/techniques/lobe-constants.md: on Veach 1.95e-4 at 1/2, 2.08e-4 at 1/4, 2.26e-4 at 1,
+/// 3.98e-4 at every GGX receiver, 4.72e-4 without the lobe.)
 pub const LOBE_NARROWER: f32 = 0.5;
 
 /// The lobe does not apply where its box of slopes holds every slope within this many alphas of
@@ -94,9 +94,10 @@ pub const LOBE_INSIDE: f32 = 10.0;
 /// far as its normal), where the lobe's tail holds under 1e-4 of it.
 pub const LOBE_REACH: f32 = 100.0;
 
-/// The lobe's share of the light samples where it applies. (Veach as above, with this factor
-/// at 1/2: 1.99e-4 at 3/4, 2.12e-4 at 1/2, 2.54e-4 at 1/4; 1.96e-4 at 7/8, a margin too small
-/// to give up the light's own samples for.)
+/// The lobe's share of the light samples where it applies. (As above, with the bound at 1/2:
+/// geometric mean over Veach, stress, mirror_lights and glossy_lights, relative to 3/4: 1.095 at
+/// 1/2, 1.49 at 1/4; 0.959 at 7/8, better on stress and mirror_lights but worse on Veach, a
+/// margin too small to give up more of the light's own samples for.)
 pub const LOBE_SHARE: f32 = 0.75;
 
 /// How far outside a light's bounding sphere a receiver must be for its lobe to apply: d^2 > r^2

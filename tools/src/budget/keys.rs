@@ -179,12 +179,15 @@ mod tests {
             keys[15..17],
             ["m0_fixed_instructions_per_camera_sample", "rv32imc_fixed_instructions_per_camera_sample"]
         );
-        assert_eq!(keys[17..21], [
-            "m4f_best_instructions_per_camera_sample",
-            "m4f_best_flash_text_bytes",
-            "m4f_best_small_instructions_per_camera_sample",
-            "m4f_best_small_flash_text_bytes"
-        ]);
+        assert_eq!(
+            keys[17..21],
+            [
+                "m4f_best_instructions_per_camera_sample",
+                "m4f_best_flash_text_bytes",
+                "m4f_best_small_instructions_per_camera_sample",
+                "m4f_best_small_flash_text_bytes"
+            ]
+        );
         assert_eq!(keys[28], "rv32imc_best_small_flash_text_bytes");
         let budgets = names(&budget_keys());
         assert_eq!(budgets.len(), keys.len() - 3);

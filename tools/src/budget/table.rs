@@ -126,7 +126,9 @@ pub fn block(budget: &Figures) -> Result<String, Error> {
     }
     match (small_within.is_empty(), small_over.is_empty()) {
         (_, true) => line(&format!("Built for size, the defaults fit {flash_kib} KiB on every core.")),
-        (true, false) => line(&format!("Built for size, the defaults are over {flash_kib} KiB on every core.")),
+        (true, false) => {
+            line(&format!("Built for size, the defaults are over {flash_kib} KiB on every core."))
+        }
         (false, false) => line(&format!(
             "Built for size, the defaults fit {flash_kib} KiB on: {}; over on: {}.",
             small_within.join(", "),
