@@ -1,12 +1,11 @@
 //! (c) The furnace: an open box of five emitting walls over a Lambertian floor, L = rho Le, where
 //! BSDF sampling has zero variance (through a camera ray, and exactly at the floor's centre).
 
-use crate::harness::{ALBEDO, MAX_REL_STDERR, N, methods, report, settings, z_max};
+use crate::harness::{ALBEDO, MAX_REL_STDERR, N, assert_estimates, methods, settings, z_max};
 use picomis::{Film, LightSelection, Material, Method, Ray, Rgb, SamplerKind, Scene, Shape, Vec3};
 use picomis_host::HostScene;
 use picomis_tests::{
-    assert_unbiased_rgb_within, camera, check_z_within, direct_stats, floor_corners, quad_corners, rgb64,
-    shading_hit, trace_stats,
+    camera, check_z_within, direct_stats, floor_corners, quad_corners, rgb64, shading_hit, trace_run,
 };
 
 type BoxScene = HostScene;
@@ -61,18 +60,17 @@ fn c_furnace() {
     {
         for (j, (name, method)) in methods().into_iter().enumerate() {
             let s = settings(method, 1, 1).with_light_selection(selection).with_sampler(kind);
-            let st = trace_stats(&scene, &s, &ray, 4000 + 100 * k as u32 + j as u32, N);
+            let run = trace_run(&scene, &s, &ray, 4000 + 100 * k as u32 + j as u32, N);
             let label = format!("(c) furnace, {name}, {selection:?}, {}", kind.name());
-            report(&label, &st, exact);
             if method == Method::BsdfOnly {
                 // Cosine sampling of a Lambertian BRDF under uniform radiance: every sample
                 // is rho Le (zero variance).
-                for (c, s) in st.0.iter().enumerate() {
+                for (c, s) in run.stats.0.iter().enumerate() {
                     let rel_var = s.variance() / (exact[c] * exact[c]);
                     assert!(rel_var < 1e-10, "{label}: relative variance {rel_var:e} in channel {c}");
                 }
             }
-            assert_unbiased_rgb_within(&label, &st, exact, MAX_REL_STDERR, z_max());
+            assert_estimates(&label, &run.totals(), exact);
         }
     }
 }

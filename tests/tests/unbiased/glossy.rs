@@ -3,13 +3,12 @@
 //! three sphere lights, one near the mirror direction, with every light selection (contribution
 //! weighs the lights by the BSDF).
 
-use crate::harness::{MAX_REL_STDERR, N, add, check_methods, check_wo, methods, report, settings, z_max};
+use crate::harness::{N, add, assert_estimates, check_methods, check_wo, methods, settings};
 use crate::lambertian::{SPHERE_L, SphereScene};
 use picomis::{Film, LightSelection, Material, Rgb, SamplerKind, Scene, Shape, SphereSampling, Vec3};
 use picomis_host::HostScene;
 use picomis_tests::{
-    Cap, DVec3, assert_unbiased_rgb_within, camera, d3, direct_stats, f3, floor_corners, integrate_adaptive,
-    rgb64, shading_hit,
+    Cap, DVec3, camera, d3, direct_run, f3, floor_corners, integrate_adaptive, rgb64, shading_hit,
 };
 
 /// A GGX floor (object 0) under a sphere light 40 degrees off the normal.
@@ -84,10 +83,9 @@ fn f_glossy_receiver() {
                 for (i, (name, method)) in methods().into_iter().enumerate() {
                     let s = settings(method, 1, 1).with_sphere_sampling(spheres).with_sampler(kind);
                     let stream = 9100 + 100 * (2 * k + j) as u32 + i as u32;
-                    let st = direct_stats(&scene, &s, &hit, wo, stream, N);
+                    let run = direct_run(&scene, &s, &hit, wo, stream, N);
                     let label = format!("(f) GGX alpha {alpha}, {name}, {spheres:?}, {}", kind.name());
-                    report(&label, &st.total, exact);
-                    assert_unbiased_rgb_within(&label, &st.total, exact, MAX_REL_STDERR, z_max());
+                    assert_estimates(&label, &run.totals(), exact);
                 }
             }
         }

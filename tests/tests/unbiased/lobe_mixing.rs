@@ -2,14 +2,14 @@
 //! mixed with the lobe's (`LobeMixing::On`) stay unbiased, and light sampling's noise falls.
 
 use crate::glossy::{glossy_scene, quadrature_reference};
-use crate::harness::{MAX_REL_STDERR, N, methods, report, settings, z_max};
+use crate::harness::{MAX_REL_STDERR, N, assert_estimates, methods, settings, z_max};
 use crate::lambertian::SPHERE_L;
 use picomis::{
     Film, Heuristic, LobeMixing, Material, Method, QuadSampling, RenderSettings, Rgb, SamplerKind, Scene,
     Shape, Vec3,
 };
 use picomis_host::HostScene;
-use picomis_tests::{assert_unbiased_rgb_within, camera, direct_stats, floor_corners, shading_hit};
+use picomis_tests::{camera, direct_run, direct_stats, floor_corners, shading_hit};
 
 /// The view direction of [`glossy_scene`] whose mirror direction lies `outside` degrees beyond
 /// the edge of the light's cone (negative: inside), in the plane of the normal and the light.
@@ -38,13 +38,12 @@ fn h_rim_of_a_reflection() {
                 for (i, (name, method)) in methods().into_iter().enumerate() {
                     let s = with_lobe(method).with_sampler(kind);
                     let stream = 9900 + 100 * (3 * k + j) as u32 + i as u32;
-                    let st = direct_stats(&scene, &s, &hit, wo, stream, N);
+                    let run = direct_run(&scene, &s, &hit, wo, stream, N);
                     let label = format!(
                         "(h) GGX alpha {alpha}, mirror {outside} deg outside, {name}, lobe mixing, {}",
                         kind.name()
                     );
-                    report(&label, &st.total, exact);
-                    assert_unbiased_rgb_within(&label, &st.total, exact, MAX_REL_STDERR, z_max());
+                    assert_estimates(&label, &run.totals(), exact);
                 }
             }
         }
