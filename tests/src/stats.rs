@@ -125,32 +125,19 @@ pub const F32_ROUNDING: f64 = 1e-5;
 /// stderr <= `max_rel_stderr` * |exact|, so that a bias of a few percent would be detected.
 /// `Err` holds the message of the failed check (suites that collect failures use this form).
 pub fn check_unbiased(label: &str, stats: &Stats, exact: f64, max_rel_stderr: f64) -> Result<(), String> {
-    check_z(label, stats.mean(), stats.stderr(), stats.n(), exact, 0.0, max_rel_stderr)
+    check_z_within(label, stats.mean(), stats.stderr(), stats.n(), exact, 0.0, max_rel_stderr, 4.0)
 }
 
 /// Checks that two independent estimates of the same unknown value agree: |a - b| < 4 sigma with
 /// sigma = sqrt(stderr_a^2 + stderr_b^2) (plus [`F32_ROUNDING`]), and that sigma <=
 /// `max_rel_stderr` * |b| (`b` is the reference, usually the estimate with more samples).
 pub fn check_agreement(label: &str, a: &Stats, b: &Stats, max_rel_stderr: f64) -> Result<(), String> {
-    check_z(label, a.mean(), a.stderr(), a.n(), b.mean(), b.stderr(), max_rel_stderr)
+    check_z_within(label, a.mean(), a.stderr(), a.n(), b.mean(), b.stderr(), max_rel_stderr, 4.0)
 }
 
 /// The z-test behind [`check_unbiased`] and [`check_agreement`]: `mean` (stderr `se`, `n`
-/// samples) against `exact` (stderr `se_exact`, 0 for a closed form).
-pub fn check_z(
-    label: &str,
-    mean: f64,
-    se: f64,
-    n: u64,
-    exact: f64,
-    se_exact: f64,
-    max_rel_stderr: f64,
-) -> Result<(), String> {
-    check_z_within(label, mean, se, n, exact, se_exact, max_rel_stderr, 4.0)
-}
-
-/// [`check_z`] with the threshold `z_max` on |mean - exact| / stderr in place of 4 (for a
-/// family of tests: [`family_z`]).
+/// samples) against `exact` (stderr `se_exact`, 0 for a closed form), |mean - exact| within
+/// `z_max` standard errors (4 for one test; a family's: [`family_z`]).
 #[allow(clippy::too_many_arguments)]
 pub fn check_z_within(
     label: &str,
@@ -265,7 +252,7 @@ impl MeanEstimate {
     }
 }
 
-/// The z-test of [`check_z`] for a [`MeanEstimate`] against a closed form: |mean - exact| within
+/// The z-test of [`check_z_within`] for a [`MeanEstimate`] against a closed form: |mean - exact| within
 /// [`z_threshold`] standard errors (for the estimate's degrees of freedom) plus [`F32_ROUNDING`],
 /// with the standard error at most `max_rel_stderr` of the value. Returns the z-score.
 pub fn check_mean(label: &str, est: &MeanEstimate, exact: f64, max_rel_stderr: f64) -> Result<f64, String> {

@@ -93,7 +93,7 @@ pub fn paired(case: &Case, fixed: &S, settings: &RenderSettings, stream: u32) ->
 /// Largest |z| of the fixed-point path's mean against f32 (paired) or the closed form.
 pub const Z_FIXED: f64 = 4.0;
 /// Rounding allowed on top of `Z_FIXED` standard errors, relative to the f32 mean: the suite's
-/// f32 allowance (`F32_ROUNDING`, as in `check_z`). Fixed hit points move by units of 2^-22 of
+/// f32 allowance (`F32_ROUNDING`, as in `check_z_within`). Fixed hit points move by units of 2^-22 of
 /// the scene's extent; the paired differences are so precise that such a systematic rounding of
 /// 1e-10 of the value is many standard errors (the table prints the z anyway).
 pub const FIXED_ROUNDING: f64 = picomis_tests::F32_ROUNDING;
