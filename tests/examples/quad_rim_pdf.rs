@@ -39,7 +39,7 @@ use picomis::{
     Vec3,
 };
 use picomis_host::{HOST_LIGHTS, HOST_MATERIALS, HOST_SHAPES, HostScene};
-use picomis_tests::{DVec3, camera, d3, floor_corners, integrate_adaptive, quad_corners};
+use picomis_tests::{DVec3, camera, d3, floor_corners, ggx_f_cos, integrate_adaptive, quad_corners};
 
 const R_GGX: f32 = 0.9;
 
@@ -169,16 +169,7 @@ fn main() {
     let (pd0, de1, de2) = (d3(p0), d3(e1), d3(e2));
     let nq = de1.cross(de2).normalize();
     let wo64 = d3(wo).normalize();
-    let a2 = f64::from(alpha).powi(2);
-    let g1 = |c: f64| 2.0 * c / (c + (a2 + (1.0 - a2) * c * c).sqrt());
-    let model = |wi: DVec3| {
-        let m = (wo64 + wi).normalize();
-        if m.y <= 0.0 || wi.y <= 0.0 {
-            return 0.0;
-        }
-        let t = (m.x * m.x + m.z * m.z) / a2 + m.y * m.y;
-        f64::from(R_GGX) / (std::f64::consts::PI * a2 * t * t) * g1(wo64.y) * g1(wi.y) / (4.0 * wo64.y)
-    };
+    let model = |wi: DVec3| ggx_f_cos(wo64, wi, f64::from(alpha), f64::from(R_GGX));
     let area = de1.cross(de2).length();
     let integrand = |with_f: bool| {
         move |s: f64, t: f64| {
@@ -329,13 +320,7 @@ fn sliver(q: &Shape, metal: Material, wo: Vec3, p0: Vec3, e1: Vec3, e2: Vec3, al
     let nq = de1.cross(de2).normalize();
     let area = de1.cross(de2).length();
     let wo64 = d3(wo).normalize();
-    let a2 = f64::from(alpha).powi(2);
-    let g1 = |c: f64| 2.0 * c / (c + (a2 + (1.0 - a2) * c * c).sqrt());
-    let model = |wi: DVec3| {
-        let m = (wo64 + wi).normalize();
-        let t = (m.x * m.x + m.z * m.z) / a2 + m.y * m.y;
-        f64::from(R_GGX) / (std::f64::consts::PI * a2 * t * t) * g1(wo64.y) * g1(wi.y) / (4.0 * wo64.y)
-    };
+    let model = |wi: DVec3| ggx_f_cos(wo64, wi, f64::from(alpha), f64::from(R_GGX));
     for (t0, ns, nt) in
         [(0.99, 2000usize, 2000usize), (0.999, 4000, 2000), (0.9999, 4000, 1000), (0.99999, 4000, 500)]
     {

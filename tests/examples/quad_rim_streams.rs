@@ -30,7 +30,8 @@ use picomis::{
 };
 use picomis_host::HostScene;
 use picomis_tests::{
-    DVec3, camera, d3, direct_run, f3, floor_corners, integrate_adaptive, quad_corners, shading_hit,
+    DVec3, camera, d3, direct_run, f3, floor_corners, ggx_f_cos, integrate_adaptive, quad_corners,
+    shading_hit,
 };
 
 const SEED: u32 = 0x0057_AB1E;
@@ -66,17 +67,7 @@ fn reference(material: &Material, alpha: f64, wo: Vec3, corners: [Vec3; 4], kern
     let normal = e1.cross(e2);
     let (area, n) = (normal.length(), normal.normalize());
     let wo64 = d3(wo).normalize();
-    let a2 = alpha * alpha;
-    let g1 = |c: f64| 2.0 * c / (c + (a2 + (1.0 - a2) * c * c).sqrt());
-    let model = |wi: DVec3| {
-        let m = (wo64 + wi).normalize();
-        if m.y <= 0.0 || wi.y <= 0.0 {
-            return 0.0;
-        }
-        let t = (m.x * m.x + m.z * m.z) / a2 + m.y * m.y;
-        let d = 1.0 / (std::f64::consts::PI * a2 * t * t);
-        f64::from(R_GGX) * d * g1(wo64.y) * g1(wi.y) / (4.0 * wo64.y)
-    };
+    let model = |wi: DVec3| ggx_f_cos(wo64, wi, alpha, f64::from(R_GGX));
     let f = |s: f64, t: f64| {
         let y = p0 + e1 * s + e2 * t;
         let d2 = y.length_squared();

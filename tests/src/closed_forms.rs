@@ -66,10 +66,48 @@ pub fn rgb64(c: Rgb) -> [f64; 3] {
     [f64::from(c.x), f64::from(c.y), f64::from(c.z)]
 }
 
+/// f cos(theta_i) of a GGX conductor of reflectance `r` (Fresnel one) whose normal is +y, in f64
+/// (free of f32's rounding): R D(m) G1(wo) G1(wi) / (4 cos_o), GGX's D and Smith's G1 of the
+/// roughness `alpha`, for unit `wo` and `wi`; 0 where either is below the surface or the half
+/// vector is.
+pub fn ggx_f_cos(wo: DVec3, wi: DVec3, alpha: f64, r: f64) -> f64 {
+    let m = (wo + wi).normalize();
+    if m.y <= 0.0 || wi.y <= 0.0 || wo.y <= 0.0 {
+        return 0.0;
+    }
+    let a2 = alpha * alpha;
+    let g1 = |c: f64| 2.0 * c / (c + (a2 + (1.0 - a2) * c * c).sqrt());
+    let t = (m.x * m.x + m.z * m.z) / a2 + m.y * m.y;
+    r / (PI * a2 * t * t) * g1(wo.y) * g1(wi.y) / (4.0 * wo.y)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::histogram::integrate_cell;
+
+    /// The f64 GGX model is the kernel's `Material::eval` without f32's rounding, and zero
+    /// below the surface.
+    #[test]
+    fn ggx_f_cos_is_the_kernels_eval() {
+        for alpha in [0.01f32, 0.1, 0.5] {
+            let m = picomis::Material::ggx_conductor(alpha, Rgb::splat(0.9)).unwrap();
+            for (wo, wi) in [
+                (DVec3::new(0.3, 0.9, -0.2), DVec3::new(-0.28, 0.92, 0.21)),
+                (DVec3::new(0.6, 0.5, 0.1), DVec3::new(-0.5, 0.6, -0.2)),
+                (DVec3::new(0.0, 1.0, 0.0), DVec3::new(0.1, 0.99, 0.0)),
+            ] {
+                let (wo, wi) = (wo.normalize(), wi.normalize());
+                let model = ggx_f_cos(wo, wi, f64::from(alpha), 0.9);
+                // The kernel's local frame: normal +z.
+                let local = |v: DVec3| picomis::Vec3::new(v.x as f32, v.z as f32, v.y as f32);
+                let kernel = f64::from(m.eval(local(wo), local(wi)).x);
+                assert!(model > 0.0 && (kernel / model - 1.0).abs() < 1e-4, "{alpha}: {kernel} vs {model}");
+            }
+            let below = DVec3::new(0.2, -0.5, 0.1).normalize();
+            assert_eq!(ggx_f_cos(DVec3::Y, below, f64::from(alpha), 0.9), 0.0);
+        }
+    }
 
     /// Irradiance from a parallelogram by brute-force quadrature over its area, in f64:
     /// E = L integral cos_x cos_y / r^2 dA.
