@@ -79,6 +79,7 @@ impl LightChoices {
             QuadSampling::Area => self.lobes::<L, Sel, Sp, quad::ByArea, V>(v),
             QuadSampling::SolidAngle => self.lobes::<L, Sel, Sp, quad::SolidAngle, V>(v),
             QuadSampling::SolidAngleCosine => self.lobes::<L, Sel, Sp, quad::SolidAngleCosine, V>(v),
+            QuadSampling::Auto => self.lobes::<L, Sel, Sp, quad::Adaptive, V>(v),
         }
     }
 

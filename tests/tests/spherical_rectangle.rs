@@ -28,8 +28,9 @@ use picomis_tests::{
     quad_corners,
 };
 
-/// Chi-square tests in this file (Sidak correction): 5 uniform, 8 cosine-warped.
-const CHI2_TESTS: usize = 13;
+/// Chi-square tests in this file (Sidak correction): 5 uniform, 8 cosine-warped, 2 `auto` (one
+/// warped, one not).
+const CHI2_TESTS: usize = 15;
 const N_CHI2: usize = 1_000_000;
 
 /// A scene holding one quad light.
@@ -48,6 +49,7 @@ impl QuadLight {
             QuadSampling::Area => self.sample_by::<quad::ByArea>(at, u),
             QuadSampling::SolidAngle => self.sample_by::<quad::SolidAngle>(at, u),
             QuadSampling::SolidAngleCosine => self.sample_by::<quad::SolidAngleCosine>(at, u),
+            QuadSampling::Auto => self.sample_by::<quad::Adaptive>(at, u),
         }
     }
 
@@ -60,6 +62,7 @@ impl QuadLight {
             QuadSampling::Area => self.pdf_by::<quad::ByArea>(at, y),
             QuadSampling::SolidAngle => self.pdf_by::<quad::SolidAngle>(at, y),
             QuadSampling::SolidAngleCosine => self.pdf_by::<quad::SolidAngleCosine>(at, y),
+            QuadSampling::Auto => self.pdf_by::<quad::Adaptive>(at, y),
         }
     }
 
@@ -120,6 +123,9 @@ fn chi2_cases() -> Vec<(String, [Vec3; 4], Vec3, QuadSampling)> {
     cases.push(("off to the side, receiver facing away".into(), side, Vec3::new(-1.0, 0.05, 0.0), cosine));
     // A vertical receiver under the light: its horizon runs through the light's middle.
     cases.push(("overhead, vertical receiver".into(), overhead, Vec3::new(1.0, 1e-3, 0.0), cosine));
+    // `auto`: warped (the cosine peaks beyond the light's edge), and not (it peaks inside it).
+    cases.push(("off to the side, auto".into(), side, Vec3::Y, QuadSampling::Auto));
+    cases.push(("huge and close, auto".into(), rects[2].1, Vec3::Y, QuadSampling::Auto));
     cases
 }
 
@@ -188,6 +194,7 @@ fn solid_angle_is_accurate_or_falls_back_to_area() {
                 let p_sa = pdf(&light, &shape, &at, centre, QuadSampling::SolidAngle);
                 let p_cos = pdf(&light, &shape, &at, centre, QuadSampling::SolidAngleCosine);
                 let p_area = pdf(&light, &shape, &at, centre, QuadSampling::Area);
+                let p_auto = pdf(&light, &shape, &at, centre, QuadSampling::Auto);
                 match spherical_rectangle(local, r.lengths.x, r.lengths.y) {
                     Some(sr) => {
                         trusted += 1;
@@ -200,11 +207,16 @@ fn solid_angle_is_accurate_or_falls_back_to_area() {
                             p_cos.is_finite() && p_cos > 0.0,
                             "size {size} height {height} offset {offset}"
                         );
+                        assert!(
+                            p_auto == p_sa || p_auto == p_cos,
+                            "size {size} height {height} offset {offset}"
+                        );
                     }
                     None => {
                         fallback += 1;
                         assert_eq!(p_sa, p_area, "size {size} height {height} offset {offset}");
                         assert_eq!(p_cos, p_area, "size {size} height {height} offset {offset}");
+                        assert_eq!(p_auto, p_area, "size {size} height {height} offset {offset}");
                     }
                 }
             }
@@ -217,7 +229,7 @@ fn solid_angle_is_accurate_or_falls_back_to_area() {
     let (light, shape) = quad_light(skew);
     assert!(shape.as_rectangle().is_none());
     let c = Vec3::new(0.1, 1.0, 0.0);
-    for quads in [QuadSampling::SolidAngle, QuadSampling::SolidAngleCosine] {
+    for quads in [QuadSampling::SolidAngle, QuadSampling::SolidAngleCosine, QuadSampling::Auto] {
         assert_eq!(pdf(&light, &shape, &at, c, quads), pdf(&light, &shape, &at, c, QuadSampling::Area));
     }
     // Behind the light: nothing, in both.
@@ -225,6 +237,7 @@ fn solid_angle_is_accurate_or_falls_back_to_area() {
     let u = Vec2::new(0.3, 0.6);
     assert!(light.sample(&at, u, QuadSampling::SolidAngle).is_none());
     assert!(light.sample(&at, u, QuadSampling::SolidAngleCosine).is_none());
+    assert!(light.sample(&at, u, QuadSampling::Auto).is_none());
 }
 
 /// Irradiance sum of L max(0, n . wi) / pdf over `n` light samples of `quads`.
@@ -278,6 +291,7 @@ fn cosine_warp_is_unbiased_and_lowers_variance() {
         let exact = irradiance_quadrature(&at, corners);
         let uniform = irradiance_stats(&light, &at, QuadSampling::SolidAngle, N, 700 + k as u32);
         let warped = irradiance_stats(&light, &at, QuadSampling::SolidAngleCosine, N, 800 + k as u32);
+        let auto = irradiance_stats(&light, &at, QuadSampling::Auto, N, 900 + k as u32);
         let rel = |s: &Stats| s.variance() / (exact * exact);
         println!(
             "{name}: E = {exact:.6e}; relative variance {:.3e} (solid angle) vs {:.3e} (cosine-warped), ratio {:.2}",
@@ -287,6 +301,7 @@ fn cosine_warp_is_unbiased_and_lowers_variance() {
         );
         assert_unbiased(&format!("{name}, solid angle"), &uniform, exact, 0.02);
         assert_unbiased(&format!("{name}, cosine-warped"), &warped, exact, 0.02);
+        assert_unbiased(&format!("{name}, auto"), &auto, exact, 0.02);
         if lowers {
             // Fourth-moment standard errors of the two variances: the gap must exceed them.
             let gap = uniform.variance() - warped.variance();

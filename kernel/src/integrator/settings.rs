@@ -62,12 +62,14 @@ impl Preset {
             Preset::Lecture => lecture,
             // Measured on every built-in scene and on the test scenes of `tests/scenes/`
             // (`host-sim/examples/defaults.rs`, docs/defaults.md): lights by contribution, light
-            // samples also from near-mirror lobes, and the control variate by its rule. Each
-            // applies only where it can help (several lights; a GGX lobe narrower than a light; a
-            // Lambertian receiver of area lights) and leaves the image unchanged elsewhere.
+            // samples also from near-mirror lobes, quads in solid angle warped by the cosine where
+            // the warp fits, and the control variate by its rule. Each applies only where it can
+            // help (several lights; a GGX lobe narrower than a light; a quad light; a Lambertian
+            // receiver of area lights) and leaves the image unchanged elsewhere.
             Preset::Best => RenderSettings {
                 selection: LightSelection::Contribution,
                 lobe: LobeMixing::On,
+                quads: QuadSampling::Auto,
                 control_variate: ControlVariate::Auto,
                 ..lecture
             },

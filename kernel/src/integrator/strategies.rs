@@ -93,6 +93,7 @@ fn quads<const L: usize, Sel: crate::light::Select<L>, Sp: sphere::SphereSampler
         QuadSampling::Area => lobes::<L, Sel, Sp, quad::ByArea, V>(s, v),
         QuadSampling::SolidAngle => lobes::<L, Sel, Sp, quad::SolidAngle, V>(s, v),
         QuadSampling::SolidAngleCosine => lobes::<L, Sel, Sp, quad::SolidAngleCosine, V>(s, v),
+        QuadSampling::Auto => lobes::<L, Sel, Sp, quad::Adaptive, V>(s, v),
     }
 }
 
@@ -166,6 +167,7 @@ pub mod type_paths {
             QuadSampling::Area => "picomis::light::quad::ByArea",
             QuadSampling::SolidAngle => "picomis::light::quad::SolidAngle",
             QuadSampling::SolidAngleCosine => "picomis::light::quad::SolidAngleCosine",
+            QuadSampling::Auto => "picomis::light::quad::Adaptive",
         }
     }
 
@@ -278,7 +280,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(n, 216);
+        assert_eq!(n, 3 * 2 * 4 * 2 * 3 * 2);
         // The types of scenes without sphere or quad lights.
         use crate::light::{quad::QuadSampler, sphere::SphereSampler};
         assert_eq!(ident(type_paths::NO_SPHERES), ident(core::any::type_name::<sphere::Absent>()));

@@ -149,6 +149,35 @@ pub fn spherical_rectangle_cosines(r: &SphericalRectangle, n: Vec3) -> [f32; 4] 
     [cosine(r.x0, r.y0), cosine(r.x1, r.y0), cosine(r.x0, r.y1), cosine(r.x1, r.y1)]
 }
 
+/// How much more than the bilinear interpolation of the corners' cosines the cosine may be at
+/// an edge's midpoint or the centre of the rectangle for [`fitted_cosine_warp`].
+pub const COSINE_WARP_FIT: f32 = 1.25;
+
+/// The corner weights of the cosine warp ([`spherical_rectangle_cosines`]) for the receiver with
+/// unit normal `n` (in the rectangle's local frame) where the warp fits its cosine: the cosine
+/// towards each edge's midpoint and the centre is at most [`COSINE_WARP_FIT`] times the
+/// interpolation of the corners' there; `None` elsewhere. Where the cosine peaks inside the
+/// rectangle or on an edge (a floor under a large, close light, or beside the foot of a wall
+/// light), the corners understate it, and the warp would draw directions away from where the
+/// cosine is largest.
+#[inline]
+pub fn fitted_cosine_warp(r: &SphericalRectangle, n: Vec3) -> Option<[f32; 4]> {
+    let cosine = |x: f32, y: f32| {
+        let v = Vec3::new(x, y, r.z0);
+        n.dot(v) / sqrt(v.length_squared())
+    };
+    let w = spherical_rectangle_cosines(r, n);
+    let [c00, c10, c01, c11] = w;
+    let (xm, ym) = (0.5 * (r.x0 + r.x1), 0.5 * (r.y0 + r.y1));
+    let fits = |c: f32, interpolated: f32| c <= COSINE_WARP_FIT * interpolated;
+    let fitted = fits(cosine(xm, r.y0), 0.5 * (c00 + c10))
+        && fits(cosine(xm, r.y1), 0.5 * (c01 + c11))
+        && fits(cosine(r.x0, ym), 0.5 * (c00 + c01))
+        && fits(cosine(r.x1, ym), 0.5 * (c10 + c11))
+        && fits(cosine(xm, ym), 0.25 * ((c00 + c10) + (c01 + c11)));
+    fitted.then_some(w)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -183,6 +212,31 @@ mod tests {
             let p = sample_spherical_rectangle(&r, u * 0.999_999 + Vec2::splat(5e-8)).unwrap();
             let c = n.dot(p) / p.length();
             assert!((c - w[k]).abs() < 1e-3, "corner {k}: {c} vs {}", w[k]);
+        }
+    }
+
+    #[test]
+    fn the_cosine_warp_fits_where_the_cosine_peaks_at_a_corner() {
+        // (corner, edge lengths, receiver normal, whether the warp fits); local frame: the
+        // rectangle lies in z = z0 < 0, the receiver at the origin.
+        let cases = [
+            // A floor under a 4 x 4 light 0.6 above: the cosine is 1 in the middle, 0.2 at the
+            // corners.
+            (Vec3::new(-2.0, -2.0, -0.6), 4.0, 4.0, Vec3::new(0.0, 0.0, -1.0), false),
+            // Beside the foot of a wall light, facing up: the cosine peaks at the bottom edge's
+            // middle (0.95) between corners of 0.2.
+            (Vec3::new(-1.5, 0.3, -0.1), 3.0, 2.0, Vec3::Y, false),
+            // A small light off to the side: the cosine is nearly linear over it.
+            (Vec3::new(3.0, 0.0, -1.0), 0.5, 0.5, Vec3::new(0.0, 0.0, -1.0), true),
+            // A light overhead, seen at 45 degrees: the peak lies beyond its edge.
+            (Vec3::new(0.5, -0.5, -1.0), 1.0, 1.0, Vec3::new(0.0, 0.0, -1.0), true),
+        ];
+        for (k, (corner, ex, ey, n, fits)) in cases.into_iter().enumerate() {
+            let r = spherical_rectangle(corner, ex, ey).unwrap();
+            assert_eq!(fitted_cosine_warp(&r, n).is_some(), fits, "case {k}");
+            if let Some(w) = fitted_cosine_warp(&r, n) {
+                assert_eq!(w, spherical_rectangle_cosines(&r, n));
+            }
         }
     }
 }

@@ -178,6 +178,12 @@ impl Case {
         self.quads(QuadSampling::SolidAngleCosine, ", quads by solid angle x cosine")
     }
 
+    /// The same case with quads sampled by `auto` (the defaults': solid angle, warped by the
+    /// cosine where the warp fits).
+    pub fn auto_quads(self) -> Self {
+        self.quads(QuadSampling::Auto, ", quads auto")
+    }
+
     /// The same case with quads sampled by `quads` (no method then fails), labelled with `suffix`.
     pub fn quads(mut self, quads: QuadSampling, suffix: &str) -> Self {
         self.quads = quads;

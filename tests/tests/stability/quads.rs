@@ -1,5 +1,5 @@
 //! Group 6, quad strategies and the control variate: cases of the other groups again with quads
-//! sampled by solid angle and by solid angle x cosine, and with the analytic control variate;
+//! sampled by solid angle, by solid angle x cosine and by `auto`, and with the analytic control variate;
 //! and a quad light cut in half by the horizon.
 
 use crate::glossy::below_horizon;
@@ -24,6 +24,9 @@ pub fn quad_strategy_cases() -> Vec<Case> {
         horizon_quad(),
         horizon_quad().solid_angle(),
         horizon_quad().solid_angle_cosine(),
+        huge_quad().auto_quads(),
+        lit_quad().auto_quads(),
+        horizon_quad().auto_quads(),
     ]
 }
 
