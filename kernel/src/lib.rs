@@ -28,7 +28,7 @@
 //!
 //! // The strategies of `Preset::Best` for scenes of at most L lights.
 //! type Best<const L: usize> = Direct<
-//!     Lights<select::ByContribution<L>, sphere::InCone, quad::ByArea, lobe::On>,
+//!     Lights<select::ByContribution<L>, sphere::InCone, quad::Adaptive, lobe::On>,
 //!     control_variate::Auto,
 //!     model::Multi,
 //! >;

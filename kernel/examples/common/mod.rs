@@ -18,10 +18,11 @@ pub const MATERIALS: usize = 3;
 pub type Demo = Scene<SHAPES, LIGHTS, MATERIALS>;
 
 /// The strategies of `Preset::Best` (what `Preset::Best.settings()` names): lights chosen by
-/// their estimated contribution, spheres sampled in their cone, quads by area, light samples
-/// also from glossy lobes, the control variate by its rule, the multi-sample model.
+/// their estimated contribution, spheres sampled in their cone, quads in solid angle
+/// (cosine-warped where the warp fits), light samples also from glossy lobes, the control variate
+/// by its rule, the multi-sample model.
 pub type Best = Direct<
-    Lights<select::ByContribution<LIGHTS>, sphere::InCone, quad::ByArea, lobe::On>,
+    Lights<select::ByContribution<LIGHTS>, sphere::InCone, quad::Adaptive, lobe::On>,
     control_variate::Auto,
     model::Multi,
 >;

@@ -7,13 +7,14 @@ use crate::finite::finite_non_negative;
 use crate::runner::{Tally, check_property, run_property};
 use crate::scenes::{S, build, scene_spec, settings};
 use picomis::light::lobe::{self, LOBE_SHARE, LobeSampler};
+use picomis::light::quad::QuadSampler;
 use picomis::light::sphere::SphereSampler;
 use picomis::light::{LightStrategies, Lights};
 use picomis::num::Frame;
-use picomis::sampling::{sample_cosine_hemisphere, sample_uniform_sphere};
+use picomis::sampling::{sample_cosine_hemisphere, sample_uniform_sphere, spherical_rectangle_cosines};
 use picomis::{
-    Film, Light, LightId, LightSampler, LightSelection, LobeMixing, Material, Ray, RenderSettings, Rgb,
-    Sampler, Scene, ShadingPoint, Shape, ShapeId, SphereSampling, SurfacePoint, Vec3,
+    Film, Light, LightId, LightSampler, LightSelection, LobeMixing, Material, QuadSampling, Ray,
+    RenderSettings, Rgb, Sampler, Scene, ShadingPoint, Shape, ShapeId, SphereSampling, SurfacePoint, Vec3,
 };
 use picomis_host::{HOST_LIGHTS, HOST_MATERIALS, HOST_SHAPES};
 use picomis_tests::{LightChoices, VisitLights, heuristics};
@@ -266,6 +267,21 @@ pub fn check_bsdf_sample(
     })
 }
 
+/// The rounding of a cosine-warped quad's pdf re-evaluated at a point, relative: the point's u
+/// comes back through `invert_spherical_rectangle_sample`, whose corner terms (atan2, up to pi)
+/// are divided by the solid angle, and the bilinear pdf's slope is at most the ratio of its
+/// largest corner weight to its smallest. Zero where `Q` does not warp.
+fn warp_rounding<Q: QuadSampler>(shape: &Shape, at: &ShadingPoint) -> f32 {
+    if !matches!(Q::KIND, QuadSampling::SolidAngleCosine | QuadSampling::Auto) {
+        return 0.0;
+    }
+    let Some((rect, sr)) = Q::seen(shape, at.p) else { return 0.0 };
+    let n = Vec3::new(at.n.dot(rect.ex), at.n.dot(rect.ey), at.n.dot(rect.n));
+    let w = spherical_rectangle_cosines(&sr, n);
+    let (lo, hi) = w.iter().fold((f32::INFINITY, 0.0f32), |(lo, hi), &c| (lo.min(c), hi.max(c)));
+    16.0 * f32::EPSILON * core::f32::consts::PI / sr.solid_angle() * (hi / lo)
+}
+
 /// The pdf of a light sample re-evaluated by `LightSampler::pdf` (`pdf`) at the point it found
 /// equals the sample's own pdf: exactly for the cone (it depends on the shading point only), to
 /// rounding of the re-constructed point for area sampling (checked where that rounding is below
@@ -299,7 +315,7 @@ fn check_sample_pdf<Lt: LightStrategies<HOST_LIGHTS>>(
     // through the normal of a sphere, each divided by cos(theta_y).
     let err = f32::EPSILON * (p.abs().max_element() + yp.abs().max_element());
     let lever = shape.as_sphere().map_or(ls.distance, |(_, r)| r.min(ls.distance));
-    let tol = 1e-4 + 16.0 * err / (lever * cos_y);
+    let tol = 1e-4 + 16.0 * err / (lever * cos_y) + warp_rounding::<Lt::Quads>(shape, at);
     if by_cone {
         prop_assert_eq!(again, ls.pdf, "{}: cone pdf re-evaluated", what);
         Ok("light sample pdf re-evaluated (cone)")
