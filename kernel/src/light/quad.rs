@@ -32,8 +32,12 @@ pub trait QuadSampler: Sync + 'static {
     const PRESENT: bool = true;
 
     /// The quad `shape` seen from `x`, where this strategy samples it: decided by the setup
-    /// alone, so that a sample and the pdf of any direction take the same way.
-    fn seen(shape: &Shape, x: Vec3) -> Option<(Rectangle, SphericalRectangle)>;
+    /// alone, so that a sample and the pdf of any direction take the same way. By default the
+    /// spherical rectangle of a rectangular quad, where f32 can resolve it.
+    #[inline]
+    fn seen(shape: &Shape, x: Vec3) -> Option<(Rectangle, SphericalRectangle)> {
+        rectangle_in_solid_angle(shape, x)
+    }
 
     /// A direction to the rectangle `rect` (seen as `sr`) from a receiver with unit normal `n`;
     /// radiance and emitter are left for the caller.
@@ -103,11 +107,6 @@ impl QuadSampler for SolidAngle {
     const KIND: QuadSampling = QuadSampling::SolidAngle;
 
     #[inline]
-    fn seen(shape: &Shape, x: Vec3) -> Option<(Rectangle, SphericalRectangle)> {
-        rectangle_in_solid_angle(shape, x)
-    }
-
-    #[inline]
     fn sample(rect: &Rectangle, sr: &SphericalRectangle, _: Vec3, u: Vec2) -> Option<LightSample> {
         toward_rectangle(rect, sr, u, None)
     }
@@ -127,11 +126,6 @@ pub struct SolidAngleCosine;
 
 impl QuadSampler for SolidAngleCosine {
     const KIND: QuadSampling = QuadSampling::SolidAngleCosine;
-
-    #[inline]
-    fn seen(shape: &Shape, x: Vec3) -> Option<(Rectangle, SphericalRectangle)> {
-        rectangle_in_solid_angle(shape, x)
-    }
 
     #[inline]
     fn sample(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3, u: Vec2) -> Option<LightSample> {
@@ -155,11 +149,6 @@ pub struct Adaptive;
 
 impl QuadSampler for Adaptive {
     const KIND: QuadSampling = QuadSampling::Auto;
-
-    #[inline]
-    fn seen(shape: &Shape, x: Vec3) -> Option<(Rectangle, SphericalRectangle)> {
-        rectangle_in_solid_angle(shape, x)
-    }
 
     #[inline]
     fn sample(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3, u: Vec2) -> Option<LightSample> {
