@@ -142,11 +142,18 @@ pub const COSINE_WARP_FLOOR: f32 = 0.01;
 #[inline]
 pub fn spherical_rectangle_cosines(r: &SphericalRectangle, n: Vec3) -> [f32; 4] {
     let cosine = |x: f32, y: f32| {
-        let v = Vec3::new(x, y, r.z0);
-        let c = n.dot(v) / sqrt(v.length_squared());
+        let c = cosine_towards(r, n, x, y);
         if c > COSINE_WARP_FLOOR { c } else { COSINE_WARP_FLOOR }
     };
     [cosine(r.x0, r.y0), cosine(r.x1, r.y0), cosine(r.x0, r.y1), cosine(r.x1, r.y1)]
+}
+
+/// The cosine between the unit normal `n` and the direction to the point (x, y) of the
+/// rectangle's plane (local frame).
+#[inline]
+fn cosine_towards(r: &SphericalRectangle, n: Vec3, x: f32, y: f32) -> f32 {
+    let v = Vec3::new(x, y, r.z0);
+    n.dot(v) / sqrt(v.length_squared())
 }
 
 /// How much more than the bilinear interpolation of the corners' cosines the cosine may be at
@@ -162,10 +169,7 @@ pub const COSINE_WARP_FIT: f32 = 1.25;
 /// cosine is largest.
 #[inline]
 pub fn fitted_cosine_warp(r: &SphericalRectangle, n: Vec3) -> Option<[f32; 4]> {
-    let cosine = |x: f32, y: f32| {
-        let v = Vec3::new(x, y, r.z0);
-        n.dot(v) / sqrt(v.length_squared())
-    };
+    let cosine = |x: f32, y: f32| cosine_towards(r, n, x, y);
     let w = spherical_rectangle_cosines(r, n);
     let [c00, c10, c01, c11] = w;
     let (xm, ym) = (0.5 * (r.x0 + r.x1), 0.5 * (r.y0 + r.y1));
