@@ -73,14 +73,17 @@
 //! results compared with the host's own f32.
 #![no_std]
 
+pub mod slow;
+
 /// The symbols a RISC-V binary wraps (`--wrap=NAME`) to use these routines: the compiler's
 /// calls reach `__wrap_NAME` here, whose rare cases go on to compiler-builtins' `__real_NAME`.
-pub const RV32_WRAPPED: [&str; 12] = [
+pub const RV32_WRAPPED: [&str; 13] = [
     "__addsf3",
     "__subsf3",
     "__mulsf3",
     "__divsf3",
     "__floatunsisf",
+    "__floatsisf",
     "__eqsf2",
     "__nesf2",
     "__ltsf2",

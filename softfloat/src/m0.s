@@ -184,7 +184,7 @@ __aeabi_fadd:
 .Lfadd_lib:
     tail_call_library 9f
     .balign 4
-9:  .word __addsf3
+9:  .word picomis_fadd_slow
     .size __aeabi_fadd, . - __aeabi_fadd
     .size __aeabi_fsub, . - __aeabi_fsub
 
@@ -255,7 +255,7 @@ __aeabi_fmul:
 .Lfmul_lib:
     tail_call_library 9f
     .balign 4
-9:  .word __mulsf3
+9:  .word picomis_fmul_slow
     .size __aeabi_fmul, . - __aeabi_fmul
 
 @ ---------------------------------------------------------------------------------------------
@@ -352,7 +352,7 @@ __aeabi_fdiv:
     .balign 4
 .Lfdiv_tab:
     .word .Lfdiv_recip - 256    @ indexed by (B >> 16) in [128, 256), two bytes an entry
-9:  .word __divsf3
+9:  .word picomis_fdiv_slow
 .Lfdiv_recip:
     FDIV_RECIPROCALS
     .size __aeabi_fdiv, . - __aeabi_fdiv

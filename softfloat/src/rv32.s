@@ -109,7 +109,7 @@ __wrap___addsf3:
     mv a0, a1                   # 0 + b = b
     ret
 .Lfadd_lib:
-    tail __real___addsf3
+    tail picomis_fadd_slow
     .size __wrap___addsf3, . - __wrap___addsf3
     .size __wrap___subsf3, . - __wrap___subsf3
 
@@ -171,7 +171,7 @@ __wrap___mulsf3:
     slli a0, a0, 31
     ret
 .Lfmul_lib:
-    tail __real___mulsf3
+    tail picomis_fmul_slow
     .size __wrap___mulsf3, . - __wrap___mulsf3
 
 # ---------------------------------------------------------------------------------------------
@@ -254,7 +254,7 @@ __wrap___divsf3:
     slli a0, a0, 31
     ret
 .Lfdiv_lib:
-    tail __real___divsf3
+    tail picomis_fdiv_slow
     .size __wrap___divsf3, . - __wrap___divsf3
 
     .section .rodata.picomis_rv_fdiv,"a",@progbits
@@ -266,12 +266,21 @@ __wrap___divsf3:
 # float __wrap___floatunsisf(unsigned a): rounded to nearest, ties to even. The leading one is
 # moved to bit 31 in steps of 16, 8, 4, 2 and 1 (RV32IMC has no count of leading zeros), then
 # packed and rounded like the other routines. Complete: no case for the library.
+# float __wrap___floatsisf(int a): the same on |a| (-2^31 is 2^31 unsigned), with a's sign.
     .section .text.picomis_rv_ui2f,"ax",@progbits
-    .globl __wrap___floatunsisf
+    .globl __wrap___floatunsisf, __wrap___floatsisf
     .type __wrap___floatunsisf, @function
+    .type __wrap___floatsisf, @function
     .balign 2
+__wrap___floatsisf:
+    srli a1, a0, 31
+    slli a1, a1, 31             # the sign
+    bgez a0, 0f
+    neg a0, a0
+    j 0f
 __wrap___floatunsisf:
-    beqz a0, 9f                 # 0 -> +0
+    li a1, 0                    # the sign: +
+0:  beqz a0, 9f                 # 0 -> +0
     li t0, 157                  # e - 1 for a leading one at bit 31 (e = 127 + 31)
     srli t1, a0, 16
     bnez t1, 1f
@@ -301,7 +310,9 @@ __wrap___floatunsisf:
     addi t2, t2, 0x7f
     srli t2, t2, 8
     add a0, t1, t2
-9:  ret
+9:  or a0, a0, a1
+    ret
+    .size __wrap___floatsisf, . - __wrap___floatsisf
     .size __wrap___floatunsisf, . - __wrap___floatunsisf
 
 # ---------------------------------------------------------------------------------------------
@@ -310,13 +321,28 @@ __wrap___floatunsisf:
 # for __gesf2 and __gtsf2; __unordsf2 is 1 when either is a NaN, else 0. Both operands
 # non-negative (the common case): their bits order them as unsigned integers. Otherwise keys
 # k(x) = x ^ ((x asr 31) lsr 1) order them as signed integers, except -0 < +0.
-.macro FCMP name, unordered
-    .section .text.picomis_rv_\name,"ax",@progbits
-    .globl __wrap___\name
-    .type __wrap___\name, @function
+# One body for the six: __gesf2 and __gtsf2 enter with -1 for unordered in a2, the other four
+# (the same code) with 1.
+    .section .text.picomis_rv_fcmp,"ax",@progbits
+    .globl __wrap___gesf2, __wrap___gtsf2
+    .globl __wrap___lesf2, __wrap___ltsf2, __wrap___eqsf2, __wrap___nesf2
+    .type __wrap___gesf2, @function
+    .type __wrap___gtsf2, @function
+    .type __wrap___lesf2, @function
+    .type __wrap___ltsf2, @function
+    .type __wrap___eqsf2, @function
+    .type __wrap___nesf2, @function
     .balign 2
-__wrap___\name:
-    lui t2, 0x7f800             # +inf
+__wrap___gesf2:
+__wrap___gtsf2:
+    li a2, -1
+    j 0f
+__wrap___lesf2:
+__wrap___ltsf2:
+__wrap___eqsf2:
+__wrap___nesf2:
+    li a2, 1
+0:  lui t2, 0x7f800             # +inf
     or t3, a0, a1
     bltz t3, 1f                 # a sign bit is set
     bltu t2, a0, 8f             # a is a NaN
@@ -343,19 +369,16 @@ __wrap___\name:
     slt a0, t1, t0
     sub a0, a0, t2
     ret
-8:  li a0, \unordered
+8:  mv a0, a2                   # unordered
     ret
 9:  li a0, 0
     ret
-    .size __wrap___\name, . - __wrap___\name
-.endm
-
-    FCMP lesf2, 1
-    FCMP ltsf2, 1
-    FCMP eqsf2, 1
-    FCMP nesf2, 1
-    FCMP gesf2, -1
-    FCMP gtsf2, -1
+    .size __wrap___gesf2, . - __wrap___gesf2
+    .size __wrap___gtsf2, . - __wrap___gtsf2
+    .size __wrap___lesf2, . - __wrap___lesf2
+    .size __wrap___ltsf2, . - __wrap___ltsf2
+    .size __wrap___eqsf2, . - __wrap___eqsf2
+    .size __wrap___nesf2, . - __wrap___nesf2
 
 # int __wrap___unordsf2(float a, float b)
     .section .text.picomis_rv_unordsf2,"ax",@progbits
