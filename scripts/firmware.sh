@@ -35,6 +35,8 @@ M4=thumbv7em-none-eabihf
 M0=thumbv6m-none-eabi
 RV=riscv32imc-unknown-none-elf
 VEACH=scenes/veach_mis.json
+# The size-optimised RV32IMC build's target features (added to firmware/.cargo/config.toml's).
+RV_SMALL_CONFIG="target.riscv32imc-unknown-none-elf.rustflags=['-C', 'target-feature=+relax,+save-restore']"
 LAMBERT=scenes/lambert_sphere.json
 # Quad lights sampled in solid angle warped by the cosine (its integrator block asks for them).
 PANEL=tests/scenes/panel_room.json
@@ -81,12 +83,17 @@ qemu_of() { case "$1" in $RV) echo qemu-system-riscv32 ;; *) echo qemu-system-ar
 # host render of check_render takes --preset too). PROFILE: the Cargo profile (default firmware;
 # firmware-small is the same optimised for size).
 build() {
-  local name=$1 target=$2 feats=$3 scene=$4 w=$5 h=$6 spp=$7 seed=$8
+  local name=$1 target=$2 feats=$3 scene=$4 w=$5 h=$6 spp=$7 seed=$8 config=()
   mkdir -p "$WORK"
+  # RV32IMC built for size: functions save and restore their registers through shared routines
+  # (LLVM's save-restore, GCC's -msave-restore; firmware/src/arch/riscv_save_restore.s).
+  if [ "${PROFILE:-firmware}" = firmware-small ] && [ "$target" = "$RV" ]; then
+    config=(--config "$RV_SMALL_CONFIG")
+  fi
   # shellcheck disable=SC2086
   if ! (cd "$FW" && CARGO_TARGET_DIR="$TD" PICOMIS_SCENE="$scene" PICOMIS_WIDTH="$w" PICOMIS_HEIGHT="$h" \
       PICOMIS_SPP="$spp" PICOMIS_SEED="$seed" PICOMIS_OUT="$name.rgb565" PICOMIS_PRESET="${PRESET:-}" \
-      cargo build --profile "${PROFILE:-firmware}" --quiet --target "$target" $feats) >"$WORK/$name.build.log" 2>&1; then
+      cargo build --profile "${PROFILE:-firmware}" "${config[@]}" --quiet --target "$target" $feats) >"$WORK/$name.build.log" 2>&1; then
     cat "$WORK/$name.build.log" >&2
     return 1
   fi
@@ -328,7 +335,11 @@ cmd_test() {
   PRESET=lecture check_render m0-veach-lecture $M0 "" "$VEACH" 64 48 1 0
   PRESET=lecture check_render rv-veach-lecture $RV "" "$VEACH" 64 48 1 0
   check_strategies none m4-veach-lecture m0-veach-lecture rv-veach-lecture
-  check_strategies "$VEACH_BEST_STRATEGIES" m4-veach m0-veach rv-veach
+  # The builds for 32 KiB parts (profile firmware-small; on RV32IMC with save-restore too) on the
+  # soft-float cores: the same pixels.
+  PROFILE=firmware-small check_render m0-veach-small $M0 "" "$VEACH" 64 48 1 0
+  PROFILE=firmware-small check_render rv-veach-small $RV "" "$VEACH" 64 48 1 0
+  check_strategies "$VEACH_BEST_STRATEGIES" m4-veach m0-veach rv-veach m0-veach-small rv-veach-small
   check_symbols m4-veach m4-board-rtt m0-veach m0-board-rtt rv-veach rv-board-rtt m0-fixed-veach rv-fixed-veach
   say "firmware tests took $((SECONDS - start)) s"
   say "firmware: $PASSED passed, $FAILED failed"

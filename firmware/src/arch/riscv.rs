@@ -7,6 +7,10 @@
 // instructions for nine words); linked with --wrap (build.rs).
 core::arch::global_asm!(include_str!("riscv_memcpy.s"), options(raw));
 
+// The prologue and epilogue routines of the `save-restore` target feature (the size-optimised
+// build); unreferenced, and so not linked, without it.
+core::arch::global_asm!(include_str!("riscv_save_restore.s"), options(raw));
+
 /// Nothing to start: the clock is the `minstret` counter.
 pub fn init() {}
 
