@@ -94,9 +94,9 @@ fn run() -> Result<(), BoxError> {
     if env::var_os("CARGO_FEATURE_RTT").is_some() {
         println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
     }
-    // RV32: the compiler's memcpy calls go to src/arch/riscv_memcpy.s, and without the F
-    // extension its soft-float calls to picomis-softfloat's routines; both reach
-    // compiler-builtins' own routines as __real_<name>.
+    // RV32: the compiler's memcpy calls go to src/arch/riscv_memcpy.s (which reaches
+    // compiler-builtins' as __real_memcpy), and without the F extension its soft-float calls to
+    // picomis-softfloat's routines.
     if target.starts_with("riscv32") {
         println!("cargo:rustc-link-arg-bins=--wrap=memcpy");
         let features = env::var("CARGO_CFG_TARGET_FEATURE").unwrap_or_default();

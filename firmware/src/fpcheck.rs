@@ -15,8 +15,8 @@
 //! routines call the M0's `__clzsi2` too.
 //! On the target the check also compares every result, NaN bits included, with
 //! compiler-builtins' own routines and counts the mismatches, and also checks the u32 -> f32
-//! conversion (`__aeabi_ui2f`) against compiler-builtins' `__floatunsisf` on
-//! 2^20 values (every leading-one position, exact ties of both parities), and the count of
+//! conversion (`__aeabi_ui2f`) against compiler-builtins' `__floatunsisf` (and on RV32IMC the
+//! i32 -> f32 one against `__floatsisf`) on 2^20 values (every leading-one position, exact ties of both parities), and the count of
 //! leading zeros (the M0's `__clzsi2`) of the same values against a shift loop. On the M0 it
 //! also checks the fixed-point path's integer routines (`kernel/src/num/int_m0.rs`), the quad test's
 //! division steps, the 32 x 32 -> 64-bit product and the 64-bit dot product of 32-bit vectors,

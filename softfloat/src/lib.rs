@@ -21,7 +21,8 @@
 //! `__aeabi_ui2f`, the 64-bit multiply `__aeabi_lmul` and the leading-zero count `__clzsi2`.
 //! compiler-builtins defines the same symbols weak, so the linker takes these, and their rare
 //! cases (subnormal, infinite or NaN operands, subnormal or overflowing results) go on to
-//! compiler-builtins' `__addsf3`, `__mulsf3` and `__divsf3` with the original operands.
+//! [`slow`]'s routines with the original operands (compiler-builtins' bits, in a third of the
+//! code of its `__addsf3`, `__mulsf3` and `__divsf3`, which are no longer linked).
 //!
 //! Another crate that also defines them strong is a duplicate-symbol error at link time. The one
 //! to know: `rp2040-hal` (and the `rp-pico` board crate) maps the float operations to the
@@ -33,7 +34,7 @@
 //! ## RISC-V (`riscv32imc-unknown-none-elf`)
 //!
 //! compiler-builtins names its routines `__addsf3` and so on only, so the fast paths are
-//! `__wrap___addsf3`..., and their rare cases call `__real___addsf3`...: link the binary with
+//! `__wrap___addsf3`... (their rare cases go to [`slow`] as on Arm): link the binary with
 //! `--wrap=NAME` for each NAME of [`RV32_WRAPPED`], e.g. in its build script (with this crate as
 //! a build-dependency too):
 //!
@@ -43,8 +44,7 @@
 //! }
 //! ```
 //!
-//! Without those flags the compiler's calls do not reach these routines (and the link may fail
-//! on an undefined `__real___addsf3`).
+//! Without those flags the compiler's calls do not reach these routines.
 //!
 //! # What the routines do
 //!
@@ -57,8 +57,8 @@
 //!   table, `fdiv_recip.s`, and one Newton step) in two digit steps and one correction, with no
 //!   64-bit multiply; `tools/tests/fdiv_bound.rs` in the picomis repository proves its error
 //!   bound for every divisor significand;
-//! - everything else tail-calls compiler-builtins with the original operands, so the rare cases
-//!   keep the library's exact bits; the comparisons are complete (they have no rare case).
+//! - everything else tail-calls [`slow`] with the original operands, which gives the library's
+//!   exact bits; the comparisons and conversions are complete (they have no rare case).
 //!
 //! On the picomis Veach scene (Cortex-M0) an add averages about 35 instructions, a multiply
 //! about 42 and a division 66, where compiler-builtins takes 89, 101 and 209.
@@ -76,7 +76,7 @@
 pub mod slow;
 
 /// The symbols a RISC-V binary wraps (`--wrap=NAME`) to use these routines: the compiler's
-/// calls reach `__wrap_NAME` here, whose rare cases go on to compiler-builtins' `__real_NAME`.
+/// calls reach `__wrap_NAME` here.
 pub const RV32_WRAPPED: [&str; 13] = [
     "__addsf3",
     "__subsf3",

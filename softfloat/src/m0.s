@@ -1,7 +1,8 @@
 @ picomis: single-precision soft float for ARMv6-M (Thumb-1), see lib.rs.
 @ AAPCS: operands in r0, r1, result in r0; r0-r3, r12 and the flags may be clobbered.
 @ Round to nearest, ties to even. Fast paths for normal operands with a normal result; the rest
-@ goes, with the original operands, to compiler-builtins' __addsf3 / __mulsf3 / __divsf3.
+@ goes, with the original operands, to picomis_fadd_slow / picomis_fmul_slow / picomis_fdiv_slow
+@ (slow.rs: compiler-builtins' bits).
 
     .syntax unified
     .thumb

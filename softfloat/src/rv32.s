@@ -1,7 +1,7 @@
 # picomis: single-precision soft float for RV32IMC (no F extension), see lib.rs.
 # The linker's --wrap (lib.rs: RV32_WRAPPED) sends the compiler's calls to __addsf3, __subsf3,
-# __mulsf3 and the comparisons here; __real___addsf3 / __real___mulsf3 are compiler-builtins'
-# routines, which take the cases off the fast paths with the original operands. C calling
+# __mulsf3 and the comparisons here; picomis_fadd_slow and the like (slow.rs) take the cases off
+# the fast paths with the original operands. C calling
 # convention: operands in a0, a1, result in a0; only caller-saved registers are written; no stack.
 # Round to nearest, ties to even.
 

@@ -22,6 +22,7 @@ const DEFAULT_NAN: u32 = 0x7fc0_0000;
 
 /// The biased exponent and the 24-bit significand (leading one at bit 23) of a finite, non-zero
 /// magnitude; a subnormal's significand is shifted up and its exponent goes to 0 and below.
+#[inline(never)]
 fn unpack(abs: u32) -> (i32, u32) {
     let e = (abs >> 23) as i32;
     if e != 0 {
@@ -36,6 +37,7 @@ fn unpack(abs: u32) -> (i32, u32) {
 }
 
 /// `m >> k` with the bits shifted out ORed into bit 0 (sticky), for any `k >= 0`.
+#[inline(never)]
 fn shift_right_sticky(m: u32, k: i32) -> u32 {
     if k <= 0 {
         m
@@ -49,6 +51,7 @@ fn shift_right_sticky(m: u32, k: i32) -> u32 {
 /// The float `sign * m / 2^31 * 2^(e - 127)` for `m` with its leading one at bit 31 (eight bits
 /// below the last kept one: the round bit and sticky bits), rounded to nearest, ties to even:
 /// infinity above the largest finite, a subnormal or zero below the smallest normal.
+#[inline(never)]
 fn round_pack(sign: u32, e: i32, m: u32) -> u32 {
     if e >= 255 {
         return sign | INF;
@@ -174,8 +177,10 @@ pub fn div(a: u32, b: u32) -> u32 {
         e -= 1;
     }
     // 26 quotient bits (24 kept, the round bit and one more), the remainder as the sticky bit.
+    // The first bit is 1 (r >= mb): the loop ends when it reaches bit 25, after 26 steps (a
+    // condition on the data, so that an optimiser for speed does not unroll it).
     let mut q = 0u32;
-    for _ in 0..26 {
+    while q & (1 << 25) == 0 {
         q <<= 1;
         if r >= mb {
             r -= mb;
