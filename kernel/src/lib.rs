@@ -141,7 +141,7 @@ pub use light::{
     SphereSampling,
 };
 pub use num::{Rgb, Vec2, Vec3};
-pub use output::{Digest, RenderStats, film_rect, render_digest, tiles, tone_map};
+pub use output::{Digest, PIXEL_SUM_BLOCK, PixelSum, RenderStats, film_rect, render_digest, tiles, tone_map};
 pub use query::Arith;
 pub use sampling::{Sampler, SamplerKind};
 pub use scene::{

@@ -10,6 +10,7 @@ use embedded_graphics_core::primitives::Rectangle;
 use crate::geometry::Film;
 use crate::integrator::{Estimate, Integrator, Strategies};
 use crate::num::Vec2;
+use crate::output::pixel_sum::PixelSum;
 use crate::output::tonemap::tone_map;
 use crate::sampling::sampler::Sampler;
 
@@ -49,21 +50,10 @@ impl<St: Strategies<L>, const S: usize, const L: usize, const M: usize> Integrat
         self.shade(hit, ray.dir, &mut sampler)
     }
 
-    /// The HDR estimate of pixel `(x, y)`: the mean of `spp` camera samples (weights and counts
-    /// of the technique parts are sums over the samples).
+    /// The HDR estimate of pixel `(x, y)`: the mean of `spp` camera samples, summed in order by a
+    /// [`PixelSum`] (weights and counts of the technique parts are sums over the samples).
     pub fn render_pixel(&self, x: u32, y: u32) -> Estimate {
-        let spp = self.settings().spp();
-        let mut sum = Estimate::default();
-        for s in 0..spp {
-            sum.merge(&self.camera_sample(x, y, s));
-        }
-        // At 1 spp the mean is the sum: scaling by 1 would change no bit (every part is finite:
-        // the estimator drops NaNs and infinities, emission is validated), and on a soft-float
-        // core it costs a division and nine multiplies per pixel.
-        if spp != 1 {
-            sum.scale(1.0 / spp as f32);
-        }
-        sum
+        PixelSum::mean_of(self.settings().spp(), |s| self.camera_sample(x, y, s))
     }
 
     /// Renders the pixels of `area` (clipped to the film) into `target`, row by row through

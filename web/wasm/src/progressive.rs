@@ -3,11 +3,11 @@
 //! (the estimator of the settings, [`picomis_host::renderer`]).
 //!
 //! Camera sample s of pixel p draws its random numbers from (seed, p, s) alone, so a pass adds
-//! samples `spp..spp + k`. `render_pixel` merges samples 0, 1, ..., N - 1 in order into a zero
-//! [`Estimate`] and scales the sum by `1.0 / N as f32`; [`Progressive::mean`] does the same
-//! operations in the same order on the running sum, which gives the same bits.
+//! samples `spp..spp + k`. `render_pixel` adds samples 0, 1, ..., N - 1 in order to a
+//! [`PixelSum`] and takes its mean; each pixel here keeps its `PixelSum` between passes, which
+//! does the same operations in the same order and gives the same bits.
 
-use picomis::{Estimate, RenderSettings, Rgb, TechniqueEstimate, tone_map};
+use picomis::{Estimate, PixelSum, RenderSettings, Rgb, TechniqueEstimate, tone_map};
 use picomis_format::SceneFile;
 use picomis_host::{HostScene, NO_LIGHT, weight_color};
 
@@ -34,7 +34,7 @@ pub struct Progressive {
     settings: RenderSettings,
     width: u32,
     height: u32,
-    sums: Vec<Estimate>,
+    sums: Vec<PixelSum>,
     spp: u32,
     rgba: Vec<u8>,
 }
@@ -53,7 +53,7 @@ impl Progressive {
             settings,
             width,
             height,
-            sums: vec![Estimate::default(); pixels],
+            sums: vec![PixelSum::default(); pixels],
             spp: 0,
             rgba: vec![0; pixels * 4 * IMAGES.len()],
         })
@@ -83,7 +83,7 @@ impl Progressive {
         for (i, sum) in self.sums.iter_mut().enumerate() {
             let (x, y) = ((i % width) as u32, (i / width) as u32);
             for s in start..end {
-                sum.merge(&renderer.camera_sample(x, y, s));
+                sum.add(&renderer.camera_sample(x, y, s));
             }
         }
         self.spp = end;
@@ -92,11 +92,7 @@ impl Progressive {
 
     /// The estimate of pixel `i` (row-major) at the current spp: `render_pixel`'s value.
     pub fn mean(&self, i: usize) -> Estimate {
-        let mut e = self.sums.get(i).copied().unwrap_or_default();
-        if self.spp > 0 {
-            e.scale(1.0 / self.spp as f32);
-        }
-        e
+        self.sums.get(i).map(PixelSum::mean).unwrap_or_default()
     }
 
     /// Tone-maps the current estimates into [`Self::rgba`].
