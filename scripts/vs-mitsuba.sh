@@ -22,6 +22,9 @@
 #        scripts/vs-mitsuba.sh --ldsampler-bias [flags] whether Mitsuba's ldsampler converges to
 #                                                       another image than its other samplers
 #                                                       (scripts/vs-mitsuba/ldsampler_bias.py)
+#        scripts/vs-mitsuba.sh --sphere-bias [flags]    Mitsuba's and picomis's sphere lights against closed
+#                                                       forms, and the Veach block where they disagree
+#                                                       (scripts/vs-mitsuba/sphere_bias.py)
 #   e.g. scripts/vs-mitsuba.sh --rounds 5 --scenes veach_mis,stress --unseen my_scene.json
 #        --add-picomis-config "independent=--sampler independent"
 set -euo pipefail
@@ -48,6 +51,9 @@ cargo build --release -q -p picomis-sim
 script=scripts/vs-mitsuba/compare.py
 if [ "${1:-}" = --ldsampler-bias ]; then
     script=scripts/vs-mitsuba/ldsampler_bias.py
+    shift
+elif [ "${1:-}" = --sphere-bias ]; then
+    script=scripts/vs-mitsuba/sphere_bias.py
     shift
 fi
 DRJIT_LIBLLVM_PATH=$llvm "$venv/bin/python" "$script" \
