@@ -1,6 +1,7 @@
 # picomis: memcpy for RV32 (see riscv.rs). build.rs links with --wrap=memcpy: the compiler's
 # copies of structs (a shading point's frame, nine words, and the like) reach __wrap_memcpy, and
-# everything but word-aligned whole words goes on to compiler-builtins' memcpy (__real_memcpy).
+# everything else is copied a byte at a time here (compiler-builtins' memcpy, 392 bytes of code,
+# is then not linked).
 
     .section .text.picomis_memcpy,"ax",@progbits
     .globl __wrap_memcpy
@@ -21,5 +22,13 @@ __wrap_memcpy:
     addi t1, t1, 4
     bne a1, t2, 1b
 2:  ret
-3:  tail __real_memcpy
+3:  mv t1, a0                   # a byte at a time (rare: the compiler's copies are of words)
+    add t2, a1, a2
+    beq a1, t2, 5f
+4:  lbu t0, 0(a1)
+    addi a1, a1, 1
+    sb t0, 0(t1)
+    addi t1, t1, 1
+    bne a1, t2, 4b
+5:  ret
     .size __wrap_memcpy, . - __wrap_memcpy
