@@ -716,6 +716,15 @@ def write_keeping_hand_part(path, text):
         f.write(text + "\n" + hand)
 
 
+def report(text, out):
+    """Prints a side study's markdown report and, with `out`, writes it there too."""
+    print(text)
+    if out:
+        with open(out, "w", encoding="utf-8") as f:
+            f.write(text + "\n")
+        print(f"-> {out}")
+
+
 def main():
     quick = "--quick" in sys.argv[1:]
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])

@@ -86,12 +86,7 @@ def main():
     lines += ["", "Verdict: " + ("**reproduced**: ldsampler's mean differs from multijitter's, and independent's "
                                  "does not." if reproduced else
                                  "**not reproduced** at this precision (see the table).")]
-    text = "\n".join(lines)
-    print(text)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as f:
-            f.write(text + "\n")
-        print(f"-> {args.out}")
+    compare.report("\n".join(lines), args.out)
 
 
 if __name__ == "__main__":

@@ -155,12 +155,7 @@ def main():
         f"| Mitsuba, independent sampler, {args.passes} x {SPP} spp | {m:.6f} ± {m_se:.1g} | |",
         f"| picomis, defaults, 4 x {SPP} spp | {p:.6f} ± {p_se:.1g} | {p / m - 1:+.1e} (z {z:+.1f}) |",
     ]
-    text = "\n".join(lines)
-    print(text)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as f:
-            f.write(text + "\n")
-        print(f"-> {args.out}")
+    compare.report("\n".join(lines), args.out)
 
 
 if __name__ == "__main__":

@@ -67,16 +67,25 @@ fn round_pack(sign: u32, e: i32, m: u32) -> u32 {
     sign | (bits + up)
 }
 
+/// The first NaN operand with its quiet bit set, its sign kept (compiler-builtins' rule for the
+/// multiply and the division; its add then drops the sign).
+#[inline]
+fn nan_operand(a: u32, b: u32) -> Option<u32> {
+    if a & !SIGN > INF {
+        Some(a | QUIET)
+    } else if b & !SIGN > INF {
+        Some(b | QUIET)
+    } else {
+        None
+    }
+}
+
 /// `a + b` on bit patterns.
 pub fn add(a: u32, b: u32) -> u32 {
+    if let Some(nan) = nan_operand(a, b) {
+        return nan & !SIGN;
+    }
     let (a_abs, b_abs) = (a & !SIGN, b & !SIGN);
-    // compiler-builtins' add drops a NaN's sign (its multiply and division keep it).
-    if a_abs > INF {
-        return a_abs | QUIET;
-    }
-    if b_abs > INF {
-        return b_abs | QUIET;
-    }
     if a_abs == INF {
         return if b_abs == INF && (a ^ b) & SIGN != 0 { DEFAULT_NAN } else { a };
     }
@@ -118,14 +127,11 @@ pub fn add(a: u32, b: u32) -> u32 {
 
 /// `a * b` on bit patterns.
 pub fn mul(a: u32, b: u32) -> u32 {
+    if let Some(nan) = nan_operand(a, b) {
+        return nan;
+    }
     let (a_abs, b_abs) = (a & !SIGN, b & !SIGN);
     let sign = (a ^ b) & SIGN;
-    if a_abs > INF {
-        return a | QUIET;
-    }
-    if b_abs > INF {
-        return b | QUIET;
-    }
     if a_abs == INF || b_abs == INF {
         // inf * 0 is invalid; inf * anything else is inf.
         return if a_abs == 0 || b_abs == 0 { DEFAULT_NAN } else { sign | INF };
@@ -148,14 +154,11 @@ pub fn mul(a: u32, b: u32) -> u32 {
 
 /// `a / b` on bit patterns.
 pub fn div(a: u32, b: u32) -> u32 {
+    if let Some(nan) = nan_operand(a, b) {
+        return nan;
+    }
     let (a_abs, b_abs) = (a & !SIGN, b & !SIGN);
     let sign = (a ^ b) & SIGN;
-    if a_abs > INF {
-        return a | QUIET;
-    }
-    if b_abs > INF {
-        return b | QUIET;
-    }
     if a_abs == INF {
         return if b_abs == INF { DEFAULT_NAN } else { sign | INF };
     }
