@@ -199,7 +199,7 @@ fn quad_sampling_names_come_from_the_kernel() {
     rejects(
         &v,
         "integrator.quad_sampling",
-        "unknown quad sampling \"cone\" (expected area, solid-angle, solid-angle-cosine or auto)",
+        "unknown quad sampling \"cone\" (expected area, solid-angle, solid-angle-cosine, auto or by-size)",
     );
 }
 

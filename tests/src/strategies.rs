@@ -80,6 +80,7 @@ impl LightChoices {
             QuadSampling::SolidAngle => self.lobes::<L, Sel, Sp, quad::SolidAngle, V>(v),
             QuadSampling::SolidAngleCosine => self.lobes::<L, Sel, Sp, quad::SolidAngleCosine, V>(v),
             QuadSampling::Auto => self.lobes::<L, Sel, Sp, quad::Adaptive, V>(v),
+            QuadSampling::BySize => self.lobes::<L, Sel, Sp, quad::BySize, V>(v),
         }
     }
 

@@ -50,6 +50,7 @@ impl QuadLight {
             QuadSampling::SolidAngle => self.sample_by::<quad::SolidAngle>(at, u),
             QuadSampling::SolidAngleCosine => self.sample_by::<quad::SolidAngleCosine>(at, u),
             QuadSampling::Auto => self.sample_by::<quad::Adaptive>(at, u),
+            QuadSampling::BySize => self.sample_by::<quad::BySize>(at, u),
         }
     }
 
@@ -63,6 +64,7 @@ impl QuadLight {
             QuadSampling::SolidAngle => self.pdf_by::<quad::SolidAngle>(at, y),
             QuadSampling::SolidAngleCosine => self.pdf_by::<quad::SolidAngleCosine>(at, y),
             QuadSampling::Auto => self.pdf_by::<quad::Adaptive>(at, y),
+            QuadSampling::BySize => self.pdf_by::<quad::BySize>(at, y),
         }
     }
 

@@ -267,6 +267,41 @@ impl Shape {
         parallelogram_pdf(self.area())
     }
 
+    /// The squared extent of the shape (a quad's diagonal, a sphere's diameter) and its centre.
+    #[inline]
+    fn extent2_and_centre(&self) -> (f32, Vec3) {
+        match self {
+            Shape::Sphere(s) => (4.0 * s.radius * s.radius, s.center),
+            Shape::Quad(q) => {
+                let diagonal = q.e1 + q.e2;
+                (diagonal.length_squared(), q.p0 + diagonal * 0.5)
+            }
+        }
+    }
+
+    /// Whether the shape looks small from `x`: its extent (a quad's diagonal, a sphere's
+    /// diameter) is shorter than `ratio` times the distance from `x` to its centre.
+    #[inline]
+    pub fn looks_small(&self, x: Vec3, ratio: f32) -> bool {
+        let (extent2, centre) = self.extent2_and_centre();
+        extent2 < ratio * ratio * (centre - x).length_squared()
+    }
+
+    /// Whether the shape looks small and steep from a receiver at `x` with unit normal `n`: its
+    /// extent is shorter than `ratio` times the height of its centre above the receiver's plane,
+    /// and for a quad also than `ratio` times the height of `x` above the quad's plane. Over such
+    /// a shape the distance and both cosines (the receiver's, the quad's) hardly vary.
+    #[inline]
+    pub fn looks_small_and_steep(&self, x: Vec3, n: Vec3, ratio: f32) -> bool {
+        let (extent2, centre) = self.extent2_and_centre();
+        let facing = match self {
+            Shape::Sphere(_) => f32::INFINITY,
+            Shape::Quad(q) => q.n.dot(x - centre),
+        };
+        let height = n.dot(centre - x).min(facing);
+        height > 0.0 && extent2 < ratio * ratio * height * height
+    }
+
     /// The sphere's center and radius, if this is a sphere.
     #[inline]
     pub fn as_sphere(&self) -> Option<(Vec3, f32)> {

@@ -124,25 +124,35 @@ pub fn sphere_projected_solid_angle(c: Vec3, r: f32, n: Vec3) -> Option<f32> {
 }
 
 /// Which lights the control variate takes at a shading point.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Cover {
     /// Every quad and sphere light (f (V - 1) sampled for those that may be blocked).
     Every,
     /// Only the lights nothing can block from the receiver, where the closed form is exact.
     Unblocked,
+    /// [`Cover::Every`] where a light looks large from the receiver (its extent at least `ratio`
+    /// times its distance, [`Shape::looks_small`]), else [`Cover::Unblocked`].
+    Large {
+        /// Extent over distance from which a light looks large.
+        ratio: f32,
+    },
 }
 
 impl Cover {
     /// The lights [`crate::integrator::control_variate::Auto`] covers in `scene`: every one in a
-    /// scene of area lights only, else the unblocked ones.
-    pub fn auto<const S: usize, const L: usize, const M: usize>(scene: &Scene<S, L, M>) -> Self {
-        if scene.lights().iter().all(|l| matches!(l, Light::Area { .. })) {
-            Cover::Every
-        } else {
-            Cover::Unblocked
+    /// scene of area lights only, else the unblocked ones. With `small` (the rule of
+    /// [`crate::integrator::control_variate::BySize`]), a scene's only light where it looks large
+    /// ([`Cover::Large`]).
+    pub fn auto<const S: usize, const L: usize, const M: usize>(scene: &Scene<S, L, M>, small: Option<f32>) -> Self {
+        let lights = scene.lights();
+        if !lights.iter().all(|l| matches!(l, Light::Area { .. })) {
+            return Cover::Unblocked;
         }
-    }
-}
+        match small {
+            Some(ratio) if lights.len() == 1 => Cover::Large { ratio },
+            _ => Cover::Every,
+        }
+    }}
 
 /// What the control variate covers at a shading point.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -172,6 +182,16 @@ pub fn unoccluded_light<Sp: SphereSampler, Q: QuadSampler, const S: usize, const
     if !(cos_o > 0.0) {
         return Covered::default();
     }
+    let cover = match cover {
+        Cover::Large { ratio } => {
+            let large = scene.lights().iter().take(64).any(|light| {
+                let Light::Area { shape: emitter, .. } = *light else { return false };
+                scene.shape(emitter).is_some_and(|shape| emitter != x.object && !shape.looks_small(x.point.p, ratio))
+            });
+            if large { Cover::Every } else { Cover::Unblocked }
+        }
+        other => other,
+    };
     let (mut covered, mut exact, mut sum) = (0u64, 0u64, Rgb::ZERO);
     for (i, light) in scene.lights().iter().enumerate().take(64) {
         let Light::Area { shape: emitter, radiance } = *light else { continue };

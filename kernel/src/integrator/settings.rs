@@ -63,14 +63,15 @@ impl Preset {
             // Measured on every built-in scene and on the test scenes of `tests/scenes/`
             // (`host-sim/examples/defaults.rs`, docs/defaults.md): lights by contribution, light
             // samples also from near-mirror lobes, quads in solid angle warped by the cosine where
-            // the warp fits, and the control variate by its rule. Each applies only where it can
+            // the warp fits and by area where a Lambertian receiver sees them small and steep,
+            // and the control variate by its rule, by size where a scene has one light. Each applies only where it can
             // help (several lights; a GGX lobe narrower than a light; a quad light; a Lambertian
             // receiver of area lights) and leaves the image unchanged elsewhere.
             Preset::Best => RenderSettings {
                 selection: LightSelection::Contribution,
                 lobe: LobeMixing::On,
-                quads: QuadSampling::Auto,
-                control_variate: ControlVariate::Auto,
+                quads: QuadSampling::BySize,
+                control_variate: ControlVariate::BySize,
                 ..lecture
             },
         }
@@ -161,7 +162,7 @@ impl RenderSettings {
     /// light samples (named here without them, either is an error).
     pub const fn with_control_variate(mut self, control_variate: ControlVariate) -> Result<Self, SceneError> {
         self.control_variate = control_variate;
-        if let ControlVariate::On | ControlVariate::Auto = control_variate {
+        if let ControlVariate::On | ControlVariate::Auto | ControlVariate::BySize = control_variate {
             if self.technique_samples().0 == 0 {
                 return Err(SceneError::ControlVariateWithoutLight);
             }
@@ -178,7 +179,7 @@ impl RenderSettings {
         }
         match self.control_variate {
             ControlVariate::On => Err(SceneError::ControlVariateWithoutLight),
-            ControlVariate::Auto => Ok(Self { control_variate: ControlVariate::Off, ..self }),
+            ControlVariate::Auto | ControlVariate::BySize => Ok(Self { control_variate: ControlVariate::Off, ..self }),
             ControlVariate::Off => Ok(self),
         }
     }

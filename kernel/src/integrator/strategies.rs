@@ -94,6 +94,7 @@ fn quads<const L: usize, Sel: crate::light::Select<L>, Sp: sphere::SphereSampler
         QuadSampling::SolidAngle => lobes::<L, Sel, Sp, quad::SolidAngle, V>(s, v),
         QuadSampling::SolidAngleCosine => lobes::<L, Sel, Sp, quad::SolidAngleCosine, V>(s, v),
         QuadSampling::Auto => lobes::<L, Sel, Sp, quad::Adaptive, V>(s, v),
+        QuadSampling::BySize => lobes::<L, Sel, Sp, quad::BySize, V>(s, v),
     }
 }
 
@@ -118,6 +119,7 @@ fn variates<const L: usize, Lt: LightStrategies<L>, V: Visit<L>>(s: &RenderSetti
         ControlVariate::Off => models::<L, Lt, control_variate::Off, V>(s, v),
         ControlVariate::On => models::<L, Lt, control_variate::On, V>(s, v),
         ControlVariate::Auto => models::<L, Lt, control_variate::Auto, V>(s, v),
+        ControlVariate::BySize => models::<L, Lt, control_variate::BySize, V>(s, v),
     }
 }
 
@@ -168,6 +170,7 @@ pub mod type_paths {
             QuadSampling::SolidAngle => "picomis::light::quad::SolidAngle",
             QuadSampling::SolidAngleCosine => "picomis::light::quad::SolidAngleCosine",
             QuadSampling::Auto => "picomis::light::quad::Adaptive",
+            QuadSampling::BySize => "picomis::light::quad::BySize",
         }
     }
 
@@ -185,6 +188,7 @@ pub mod type_paths {
             ControlVariate::Off => "picomis::integrator::control_variate::Off",
             ControlVariate::On => "picomis::integrator::control_variate::On",
             ControlVariate::Auto => "picomis::integrator::control_variate::Auto",
+            ControlVariate::BySize => "picomis::integrator::control_variate::BySize",
         }
     }
 
@@ -280,7 +284,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(n, 3 * 2 * 4 * 2 * 3 * 2);
+        assert_eq!(n, 3 * 2 * 5 * 2 * 4 * 2);
         // The types of scenes without sphere or quad lights.
         use crate::light::{quad::QuadSampler, sphere::SphereSampler};
         assert_eq!(ident(type_paths::NO_SPHERES), ident(core::any::type_name::<sphere::Absent>()));

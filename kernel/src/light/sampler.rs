@@ -222,7 +222,7 @@ impl<'a, St: LightStrategies<L>, const S: usize, const L: usize, const M: usize>
     #[inline]
     fn sample_shape(&self, shape: &Shape, at: &ShadingPoint, u: Vec2) -> Option<LightSample> {
         let x = at.p;
-        if let Some((rect, sr)) = St::Quads::seen(shape, x) {
+        if let Some((rect, sr)) = St::Quads::seen(shape, at) {
             // Decided by the setup alone, as in `pdf`: no fallback after this point.
             return St::Quads::sample(&rect, &sr, at.n, u);
         }
@@ -244,7 +244,7 @@ impl<'a, St: LightStrategies<L>, const S: usize, const L: usize, const M: usize>
         let x = at.p;
         let Some(light @ Light::Area { .. }) = self.scene.light(light) else { return 0.0 };
         let Some(shape) = self.scene.light_shape(light) else { return 0.0 };
-        if let Some((rect, sr)) = St::Quads::seen(shape, x) {
+        if let Some((rect, sr)) = St::Quads::seen(shape, at) {
             return St::Quads::pdf(&rect, &sr, at, y.p);
         }
         if let Some((center, radius)) = shape.as_sphere() {
