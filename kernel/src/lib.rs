@@ -28,8 +28,8 @@
 //!
 //! // The strategies of `Preset::Best` for scenes of at most L lights.
 //! type Best<const L: usize> = Direct<
-//!     Lights<select::ByContribution<L>, sphere::InCone, quad::Adaptive, lobe::On>,
-//!     control_variate::Auto,
+//!     Lights<select::ByContribution<L>, sphere::InCone, quad::BySize, lobe::On>,
+//!     control_variate::BySize,
 //!     model::Multi,
 //! >;
 //!

@@ -19,11 +19,12 @@ pub type Demo = Scene<SHAPES, LIGHTS, MATERIALS>;
 
 /// The strategies of `Preset::Best` (what `Preset::Best.settings()` names): lights chosen by
 /// their estimated contribution, spheres sampled in their cone, quads in solid angle
-/// (cosine-warped where the warp fits), light samples also from glossy lobes, the control variate
-/// by its rule, the multi-sample model.
+/// (cosine-warped where the warp fits; by area where a Lambertian receiver sees them small and
+/// steep), light samples also from glossy lobes, the control variate by its rule (by size in a
+/// scene of one light), the multi-sample model.
 pub type Best = Direct<
-    Lights<select::ByContribution<LIGHTS>, sphere::InCone, quad::Adaptive, lobe::On>,
-    control_variate::Auto,
+    Lights<select::ByContribution<LIGHTS>, sphere::InCone, quad::BySize, lobe::On>,
+    control_variate::BySize,
     model::Multi,
 >;
 

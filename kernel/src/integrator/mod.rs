@@ -7,7 +7,7 @@
 //! | `settings.rs` | [`RenderSettings`], the [`Preset`]s they start from, and where the estimator reads them ([`SettingsSource`]) |
 //! | `mis.rs` | the heuristics and the methods that combine the techniques ([`Method`]) |
 //! | `model.rs` | the multi-sample and one-sample models ([`MisModel`]; types [`model::Multi`], [`model::One`]) |
-//! | `control_variate.rs` | the analytic control variate ([`ControlVariate`]; types [`control_variate::Off`], [`control_variate::On`]) |
+//! | `control_variate.rs` | the analytic control variate ([`ControlVariate`]; types [`control_variate::Off`], [`control_variate::On`], [`control_variate::Auto`], [`control_variate::BySize`]) |
 //! | `closed_form.rs` | the closed forms of unoccluded light on Lambertian receivers |
 //! | `strategies.rs` | the strategies as one type ([`Strategies`], [`Direct`]) and [`dispatch`] |
 //! | `estimate.rs` | what the estimator returns ([`Estimate`], [`TechniqueEstimate`]) |

@@ -272,10 +272,10 @@ pub fn check_bsdf_sample(
 /// are divided by the solid angle, and the bilinear pdf's slope is at most the ratio of its
 /// largest corner weight to its smallest. Zero where `Q` does not warp.
 fn warp_rounding<Q: QuadSampler>(shape: &Shape, at: &ShadingPoint) -> f32 {
-    if !matches!(Q::KIND, QuadSampling::SolidAngleCosine | QuadSampling::Auto) {
+    if !matches!(Q::KIND, QuadSampling::SolidAngleCosine | QuadSampling::Auto | QuadSampling::BySize) {
         return 0.0;
     }
-    let Some((rect, sr)) = Q::seen(shape, at.p) else { return 0.0 };
+    let Some((rect, sr)) = Q::seen(shape, at) else { return 0.0 };
     let n = Vec3::new(at.n.dot(rect.ex), at.n.dot(rect.ey), at.n.dot(rect.n));
     let w = spherical_rectangle_cosines(&sr, n);
     let (lo, hi) = w.iter().fold((f32::INFINITY, 0.0f32), |(lo, hi), &c| (lo.min(c), hi.max(c)));
