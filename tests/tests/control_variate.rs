@@ -15,6 +15,9 @@
 //!    shadow cull says nothing can block, it agrees with the plain estimator under every light
 //!    selection, heuristic and model, and where every sampled light is unblocked the estimate is
 //!    exact (zero variance: selection by contribution gives the exact lights no samples).
+//! 5. The control variate by size (`ControlVariate::BySize`, the best preset's since): a lone
+//!    light is `On`'s where it looks large from the receiver and `Off`'s where it looks small and
+//!    something may block it, bit for bit; beside other lights it is `Auto`, bit for bit.
 
 use picomis::integrator::{quad_projected_solid_angle, sphere_projected_solid_angle};
 use picomis::{
@@ -412,5 +415,48 @@ fn unblocked_lights_beside_a_point_light_are_exact() {
         let uniform = total(&s, &st.with_light_selection(LightSelection::Uniform), 601, N / 4);
         assert!(uniform.variance() > 0.0, "{method:?}: uniform selection draws either light");
         assert_unbiased(&format!("{method:?}, uniform selection"), &uniform, exact, MAX_REL_STDERR);
+    }
+}
+
+#[test]
+fn by_size_takes_a_lone_light_where_it_looks_large() {
+    let methods =
+        [Method::Mis(Heuristic::Balance), Method::Mis(Heuristic::Power { beta: 2.0 }), Method::LightOnly];
+    // (name, the light's corner, its side, whether it looks large from the origin: its diagonal
+    // against the distance to its centre)
+    let lights = [
+        ("small and high (diagonal 1.41 at distance 2)", Vec3::new(-0.5, 2.0, -0.5), 1.0, false),
+        ("large and low (diagonal 4.24 at distance 1)", Vec3::new(-1.5, 1.0, -1.5), 3.0, true),
+    ];
+    for (name, corner, side, large) in lights {
+        let mut s: S = Scene::new(camera(), Film::new(8, 8).unwrap()).unwrap();
+        let white = s.add_material(Material::lambertian(Rgb::splat(RHO)).unwrap()).unwrap();
+        let black = s.add_material(Material::lambertian(Rgb::ZERO).unwrap()).unwrap();
+        let grey = s.add_material(Material::lambertian(Rgb::splat(0.5)).unwrap()).unwrap();
+        s.add_shape(Shape::quad(floor_corners(50.0)).unwrap(), white).unwrap();
+        let q = quad_corners(corner, Vec3::new(side, 0.0, 0.0), Vec3::new(0.0, 0.0, side));
+        let light = s.add_shape(Shape::quad(q).unwrap(), black).unwrap();
+        s.add_area_light(light, Rgb::splat(2.0)).unwrap();
+        s.add_shape(Shape::sphere(Vec3::new(0.2, 0.6, 0.1), 0.2).unwrap(), grey).unwrap();
+        assert!(!unblocked(&s, 0), "{name}: the occluder may block the light");
+        for method in methods {
+            let on = total(&s, &settings(method, MisModel::Multi, ControlVariate::On), 40, 2000);
+            let off = total(&s, &settings(method, MisModel::Multi, ControlVariate::Off), 40, 2000);
+            let by_size = total(&s, &settings(method, MisModel::Multi, ControlVariate::BySize), 40, 2000);
+            assert_ne!(on.mean(), off.mean(), "{name}, {method:?}: the check must see the choice");
+            let want = if large { &on } else { &off };
+            assert_eq!(
+                (by_size.mean(), by_size.variance()),
+                (want.mean(), want.variance()),
+                "{name}, {method:?}"
+            );
+        }
+    }
+    // Beside another light: `auto`'s (here `on`'s), whatever the lights' sizes.
+    let s = shadowed_scene();
+    for method in methods {
+        let auto = total(&s, &settings(method, MisModel::Multi, ControlVariate::Auto), 40, 2000);
+        let by_size = total(&s, &settings(method, MisModel::Multi, ControlVariate::BySize), 40, 2000);
+        assert_eq!((by_size.mean(), by_size.variance()), (auto.mean(), auto.variance()), "{method:?}");
     }
 }

@@ -294,6 +294,7 @@ fn cosine_warp_is_unbiased_and_lowers_variance() {
         let uniform = irradiance_stats(&light, &at, QuadSampling::SolidAngle, N, 700 + k as u32);
         let warped = irradiance_stats(&light, &at, QuadSampling::SolidAngleCosine, N, 800 + k as u32);
         let auto = irradiance_stats(&light, &at, QuadSampling::Auto, N, 900 + k as u32);
+        let by_size = irradiance_stats(&light, &at, QuadSampling::BySize, N, 1000 + k as u32);
         let rel = |s: &Stats| s.variance() / (exact * exact);
         println!(
             "{name}: E = {exact:.6e}; relative variance {:.3e} (solid angle) vs {:.3e} (cosine-warped), ratio {:.2}",
@@ -304,11 +305,50 @@ fn cosine_warp_is_unbiased_and_lowers_variance() {
         assert_unbiased(&format!("{name}, solid angle"), &uniform, exact, 0.02);
         assert_unbiased(&format!("{name}, cosine-warped"), &warped, exact, 0.02);
         assert_unbiased(&format!("{name}, auto"), &auto, exact, 0.02);
+        assert_unbiased(&format!("{name}, by size"), &by_size, exact, 0.02);
         if lowers {
             // Fourth-moment standard errors of the two variances: the gap must exceed them.
             let gap = uniform.variance() - warped.variance();
             let se = uniform.variance_stderr().hypot(warped.variance_stderr());
             assert!(gap > 4.0 * se, "{name}: the warp must lower the variance ({gap:e} vs 4 x {se:e})");
         }
+    }
+}
+
+/// `by-size` takes `auto`'s way where a Lambertian receiver sees the rectangle large or at a
+/// slant, and the area's where it sees it small and steep (its diagonal under 1.5 times both
+/// heights: of the centre above the receiver's plane, of the receiver above the light's); a
+/// glossy receiver always takes `auto`'s. Unbiased either way (z-scores against quadrature).
+#[test]
+fn by_size_draws_small_steep_quads_by_area() {
+    const N: u32 = 200_000;
+    let x = Vec3::new(0.1, 0.0, -0.2);
+    let lambertian = receiver(x, Vec3::Y);
+    let glossy = ShadingPoint {
+        bsdf: picomis::Material::ggx_conductor(0.3, picomis::Rgb::ONE).expect("valid GGX"),
+        ..lambertian
+    };
+    // (name, light, whether a Lambertian receiver at `x` draws it by area)
+    let cases = [
+        // Diagonal 0.71 at height 3: small and steep.
+        ("small, high overhead", rect(Vec3::new(-0.15, 3.0, -0.45), 0.5, 0.5), true),
+        // Diagonal 1.70 at height 1: large.
+        ("overhead", rect(Vec3::new(-0.6, 1.0, -0.6), 1.2, 1.2), false),
+        // Diagonal 0.85 at distance 1.23 (small by distance alone), but at a slant: height 0.3.
+        ("off to the side, low", rect(Vec3::new(1.0, 0.3, -0.5), 0.6, 0.6), false),
+    ];
+    for (k, (name, corners, by_area)) in cases.into_iter().enumerate() {
+        let (light, shape) = quad_light(corners);
+        let centre = (corners[0] + corners[2]) * 0.5;
+        let area = pdf(&light, &shape, &lambertian, centre, QuadSampling::Area);
+        let auto = pdf(&light, &shape, &lambertian, centre, QuadSampling::Auto);
+        let by_size = pdf(&light, &shape, &lambertian, centre, QuadSampling::BySize);
+        assert!(area != auto, "{name}: the two ways must differ here for the check to see the choice");
+        assert_eq!(by_size, if by_area { area } else { auto }, "{name}: by area {by_area}");
+        let glossy_pdf = pdf(&light, &shape, &glossy, centre, QuadSampling::BySize);
+        assert_eq!(glossy_pdf, pdf(&light, &shape, &glossy, centre, QuadSampling::Auto), "{name}, glossy");
+        let exact = irradiance_quadrature(&lambertian, corners);
+        let stats = irradiance_stats(&light, &lambertian, QuadSampling::BySize, N, 1100 + k as u32);
+        assert_unbiased(&format!("{name}, by size"), &stats, exact, 0.02);
     }
 }

@@ -143,7 +143,10 @@ impl Cover {
     /// scene of area lights only, else the unblocked ones. With `small` (the rule of
     /// [`crate::integrator::control_variate::BySize`]), a scene's only light where it looks large
     /// ([`Cover::Large`]).
-    pub fn auto<const S: usize, const L: usize, const M: usize>(scene: &Scene<S, L, M>, small: Option<f32>) -> Self {
+    pub fn auto<const S: usize, const L: usize, const M: usize>(
+        scene: &Scene<S, L, M>,
+        small: Option<f32>,
+    ) -> Self {
         let lights = scene.lights();
         if !lights.iter().all(|l| matches!(l, Light::Area { .. })) {
             return Cover::Unblocked;
@@ -152,7 +155,8 @@ impl Cover {
             Some(ratio) if lights.len() == 1 => Cover::Large { ratio },
             _ => Cover::Every,
         }
-    }}
+    }
+}
 
 /// What the control variate covers at a shading point.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -186,7 +190,9 @@ pub fn unoccluded_light<Sp: SphereSampler, Q: QuadSampler, const S: usize, const
         Cover::Large { ratio } => {
             let large = scene.lights().iter().take(64).any(|light| {
                 let Light::Area { shape: emitter, .. } = *light else { return false };
-                scene.shape(emitter).is_some_and(|shape| emitter != x.object && !shape.looks_small(x.point.p, ratio))
+                scene
+                    .shape(emitter)
+                    .is_some_and(|shape| emitter != x.object && !shape.looks_small(x.point.p, ratio))
             });
             if large { Cover::Every } else { Cover::Unblocked }
         }

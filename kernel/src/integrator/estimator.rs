@@ -44,7 +44,12 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
     /// ([`SceneError::StrategyMismatch`] otherwise). Light selection's tables are built here.
     pub fn new(scene: &'a Scene<S, L, M>, settings: &'a RenderSettings) -> Result<Self, SceneError> {
         St::check(settings)?;
-        Ok(Self { scene, settings, lights: LightSampler::new(scene), auto_cover: Cover::auto(scene, St::ControlVariate::SMALL) })
+        Ok(Self {
+            scene,
+            settings,
+            lights: LightSampler::new(scene),
+            auto_cover: Cover::auto(scene, St::ControlVariate::SMALL),
+        })
     }
 
     /// The scene.

@@ -179,7 +179,9 @@ impl RenderSettings {
         }
         match self.control_variate {
             ControlVariate::On => Err(SceneError::ControlVariateWithoutLight),
-            ControlVariate::Auto | ControlVariate::BySize => Ok(Self { control_variate: ControlVariate::Off, ..self }),
+            ControlVariate::Auto | ControlVariate::BySize => {
+                Ok(Self { control_variate: ControlVariate::Off, ..self })
+            }
             ControlVariate::Off => Ok(self),
         }
     }

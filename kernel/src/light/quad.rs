@@ -2,12 +2,12 @@
 
 use crate::geometry::{Rectangle, Shape};
 use crate::light::sample::{LightSample, ShadingPoint};
-use crate::scene::Material;
 use crate::num::{Vec2, Vec3, sqrt};
 use crate::sampling::{
     SphericalRectangle, bilinear_pdf, fitted_cosine_warp, invert_spherical_rectangle_sample, sample_bilinear,
     sample_spherical_rectangle, spherical_rectangle, spherical_rectangle_cosines, spherical_rectangle_pdf,
 };
+use crate::scene::Material;
 
 crate::choices! {
     /// How points on quad lights are drawn.
@@ -191,7 +191,9 @@ impl QuadSampler for BySize {
 
     #[inline]
     fn seen(shape: &Shape, at: &ShadingPoint) -> Option<(Rectangle, SphericalRectangle)> {
-        if matches!(at.bsdf, Material::Lambertian { .. }) && shape.looks_small_and_steep(at.p, at.n, Self::SMALL) {
+        if matches!(at.bsdf, Material::Lambertian { .. })
+            && shape.looks_small_and_steep(at.p, at.n, Self::SMALL)
+        {
             return None;
         }
         rectangle_in_solid_angle(shape, at.p)
