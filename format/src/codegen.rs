@@ -31,7 +31,8 @@ fn method(m: Method) -> String {
 /// type `quad::Absent`, which leaves out every strategy's code for quad lights); no sphere
 /// lights, spheres by area (`sphere::Absent`); one light, no selection by contribution; lobe mixing only with
 /// a GGX receiver and an area light; the control variate only with a Lambertian receiver and an
-/// area light.
+/// area light, and `by-size` only where it differs from `auto` (a scene whose one light is an
+/// area light); quads `by-size` only with a Lambertian receiver (else `auto`).
 pub fn firmware_settings(s: &SceneFile) -> RenderSettings {
     let settings = s.default_settings();
     let (lights, materials) = (s.light_kinds(), s.material_kinds());
@@ -40,11 +41,19 @@ pub fn firmware_settings(s: &SceneFile) -> RenderSettings {
         LightSelection::Contribution if s.counts().lights <= 1 => LightSelection::Uniform,
         other => other,
     };
-    let quads = if lights.quads { settings.quad_sampling() } else { QuadSampling::Area };
+    let quads = match settings.quad_sampling() {
+        _ if !lights.quads => QuadSampling::Area,
+        QuadSampling::BySize if !materials.lambertian => QuadSampling::Auto,
+        other => other,
+    };
     let spheres = if lights.spheres { settings.sphere_sampling() } else { SphereSampling::Area };
     let lobe = if materials.ggx && area_lights { settings.lobe_mixing() } else { LobeMixing::Off };
-    let cv =
-        if materials.lambertian && area_lights { settings.control_variate() } else { ControlVariate::Off };
+    let one_area_light = s.counts().lights == 1 && area_lights;
+    let cv = match settings.control_variate() {
+        _ if !(materials.lambertian && area_lights) => ControlVariate::Off,
+        ControlVariate::BySize if !one_area_light => ControlVariate::Auto,
+        other => other,
+    };
     let s = settings
         .with_light_selection(selection)
         .with_quad_sampling(quads)

@@ -13,6 +13,7 @@
 //! values, so the host and a Cortex-M choose alike.
 
 use crate::geometry::Shape;
+use crate::integrator::control_variate::ControlVariateStrategy;
 use crate::light::quad::QuadSampler;
 use crate::light::sphere::SphereSampler;
 use crate::num::{INV_PI, PI, Rgb, Vec3, acos, atan2, clamp, safe_sqrt, sqrt};
@@ -175,7 +176,14 @@ pub struct Covered {
 /// kinds the scene may have ([`SphereSampler::PRESENT`], [`QuadSampler::PRESENT`]) count.
 /// (Out of line: once per shading point, and a firmware that carries it shows it by name.)
 #[inline(never)]
-pub fn unoccluded_light<Sp: SphereSampler, Q: QuadSampler, const S: usize, const L: usize, const M: usize>(
+pub fn unoccluded_light<
+    Sp: SphereSampler,
+    Q: QuadSampler,
+    Cv: ControlVariateStrategy,
+    const S: usize,
+    const L: usize,
+    const M: usize,
+>(
     scene: &Scene<S, L, M>,
     bsdf: &Material,
     x: &Hit,
@@ -187,6 +195,9 @@ pub fn unoccluded_light<Sp: SphereSampler, Q: QuadSampler, const S: usize, const
         return Covered::default();
     }
     let cover = match cover {
+        // Only a strategy with a size rule makes a `Large` cover: without one (`Cv::SMALL` is
+        // `None`), the rule's code is left out.
+        Cover::Large { .. } if Cv::SMALL.is_none() => Cover::Every,
         Cover::Large { ratio } => {
             let large = scene.lights().iter().take(64).any(|light| {
                 let Light::Area { shape: emitter, .. } = *light else { return false };

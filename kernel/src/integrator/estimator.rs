@@ -329,6 +329,7 @@ macro_rules! shading {
             closed_form::unoccluded_light::<
                 <St::Lights as LightStrategies<L>>::Spheres,
                 <St::Lights as LightStrategies<L>>::Quads,
+                St::ControlVariate,
                 S,
                 L,
                 M,
