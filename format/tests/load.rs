@@ -204,6 +204,42 @@ fn quad_sampling_names_come_from_the_kernel() {
 }
 
 #[test]
+fn firmware_names_by_size_only_where_it_differs_from_auto() {
+    use picomis::{ControlVariate, QuadSampling};
+    let best = Preset::Best.settings();
+    assert_eq!(
+        (best.control_variate(), best.quad_sampling()),
+        (ControlVariate::BySize, QuadSampling::BySize)
+    );
+    // Veach: five lights, so the control variate `by-size` is `auto`, and the firmware names
+    // `auto`'s type (no size rule linked).
+    let s = load(&veach()).unwrap();
+    assert_eq!(s.default_settings().control_variate(), ControlVariate::BySize);
+    assert_eq!(firmware_settings(&s).control_variate(), ControlVariate::Auto);
+    assert!(s.to_rust().contains("picomis::ControlVariate::Auto)"));
+    // One area light (the sphere lights removed, the first plate made a light): `by-size`
+    // differs from `auto` there, and stays.
+    let mut v = veach();
+    v["shapes"] = serde_json::Value::Array(
+        v["shapes"].as_array().unwrap().iter().filter(|s| s.get("emitter").is_none()).cloned().collect(),
+    );
+    v["shapes"][0]["emitter"] = serde_json::json!({ "type": "area", "radiance": [1.0, 1.0, 1.0] });
+    let one = load(&v).unwrap();
+    assert_eq!(one.counts().lights, 1);
+    assert_eq!(firmware_settings(&one).control_variate(), ControlVariate::BySize);
+    assert_eq!(firmware_settings(&one).quad_sampling(), QuadSampling::BySize);
+    // Quads `by-size` differ from `auto` only at Lambertian receivers: with none, `auto`.
+    for m in v["materials"].as_object_mut().unwrap().values_mut() {
+        if m["type"] == "lambertian" {
+            *m = serde_json::json!({ "type": "ggx_conductor", "alpha": 0.2, "fresnel": "one", "specular_reflectance": [0.5, 0.5, 0.5] });
+        }
+    }
+    let glossy = load(&v).unwrap();
+    assert_eq!(firmware_settings(&glossy).quad_sampling(), QuadSampling::Auto);
+    assert_eq!(firmware_settings(&glossy).control_variate(), ControlVariate::Off);
+}
+
+#[test]
 fn light_selection_names_come_from_the_kernel() {
     let best = Preset::Best.settings();
     assert_eq!(load(&veach()).unwrap().default_settings().light_selection(), best.light_selection());
