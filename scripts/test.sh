@@ -57,7 +57,14 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p picomis -p picomis-format
 step "crates.io packages: cargo publish --dry-run (picomis, picomis-format)"
 # Packaged together: picomis-format's picomis resolves to the kernel packaged beside it. Each
 # package is built from its .crate alone. --allow-dirty: the suite also runs on uncommitted trees.
-cargo publish --dry-run --allow-dirty -p picomis -p picomis-format
+# Cargo takes a registry package of the same name and version for unchanged: it reuses an earlier
+# run's extraction of the packaged kernel (in CARGO_HOME's registry sources) and its build, so
+# picomis-format would be verified against a stale kernel (one without a variant added since).
+# Remove both first; the verification builds in a target folder of its own.
+rm -rf "${CARGO_HOME:-$HOME/.cargo}"/registry/src/*/picomis-[0-9]* "${CARGO_HOME:-$HOME/.cargo}"/registry/src/*/picomis-format-[0-9]*
+publish_target="${CARGO_TARGET_DIR:-target}/publish"
+rm -rf "$publish_target"/debug/.fingerprint/picomis-* "$publish_target"/debug/deps/libpicomis*
+CARGO_TARGET_DIR="$publish_target" cargo publish --dry-run --allow-dirty -p picomis -p picomis-format
 
 step "kernel unit tests in a debug build (overflow checks on: RenderStats of a 4096x4096 film at 256 spp)"
 cargo test -p picomis --lib
