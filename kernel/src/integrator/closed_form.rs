@@ -131,29 +131,26 @@ pub enum Cover {
     Every,
     /// Only the lights nothing can block from the receiver, where the closed form is exact.
     Unblocked,
-    /// [`Cover::Every`] where a light looks large from the receiver (its extent at least `ratio`
-    /// times its distance, [`Shape::looks_small`]), else [`Cover::Unblocked`].
-    Large {
-        /// Extent over distance from which a light looks large.
-        ratio: f32,
-    },
+    /// [`Cover::Every`] where a light looks large from the receiver (its extent at least the
+    /// control variate's [`ControlVariateStrategy::SMALL`] times its distance,
+    /// [`Shape::looks_small`]), else [`Cover::Unblocked`].
+    Large,
 }
 
 impl Cover {
     /// The lights [`crate::integrator::control_variate::Auto`] covers in `scene`: every one in a
-    /// scene of area lights only, else the unblocked ones. With `small` (the rule of
+    /// scene of area lights only, else the unblocked ones. With a size rule (`Cv::SMALL`, that of
     /// [`crate::integrator::control_variate::BySize`]), a scene's only light where it looks large
     /// ([`Cover::Large`]).
-    pub fn auto<const S: usize, const L: usize, const M: usize>(
+    pub fn auto<Cv: ControlVariateStrategy, const S: usize, const L: usize, const M: usize>(
         scene: &Scene<S, L, M>,
-        small: Option<f32>,
     ) -> Self {
         let lights = scene.lights();
         if !lights.iter().all(|l| matches!(l, Light::Area { .. })) {
             return Cover::Unblocked;
         }
-        match small {
-            Some(ratio) if lights.len() == 1 => Cover::Large { ratio },
+        match Cv::SMALL {
+            Some(_) if lights.len() == 1 => Cover::Large,
             _ => Cover::Every,
         }
     }
@@ -194,11 +191,11 @@ pub fn unoccluded_light<
     if !(cos_o > 0.0) {
         return Covered::default();
     }
-    let cover = match cover {
-        // Only a strategy with a size rule makes a `Large` cover: without one (`Cv::SMALL` is
-        // `None`), the rule's code is left out.
-        Cover::Large { .. } if Cv::SMALL.is_none() => Cover::Every,
-        Cover::Large { ratio } => {
+    let cover = match (cover, Cv::SMALL) {
+        // Only a strategy with a size rule makes a `Large` cover (`Cover::auto`); without one,
+        // the rule's code is left out of the build.
+        (Cover::Large, None) => Cover::Every,
+        (Cover::Large, Some(ratio)) => {
             let large = scene.lights().iter().take(64).any(|light| {
                 let Light::Area { shape: emitter, .. } = *light else { return false };
                 scene
@@ -207,7 +204,7 @@ pub fn unoccluded_light<
             });
             if large { Cover::Every } else { Cover::Unblocked }
         }
-        other => other,
+        (other, _) => other,
     };
     let (mut covered, mut exact, mut sum) = (0u64, 0u64, Rgb::ZERO);
     for (i, light) in scene.lights().iter().enumerate().take(64) {

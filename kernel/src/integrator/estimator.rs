@@ -48,7 +48,7 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
             scene,
             settings,
             lights: LightSampler::new(scene),
-            auto_cover: Cover::auto(scene, St::ControlVariate::SMALL),
+            auto_cover: Cover::auto::<St::ControlVariate, S, L, M>(scene),
         })
     }
 
