@@ -257,9 +257,9 @@ check_build() { # NAME TARGET FEATURES
 }
 
 # The strategies beyond the lecture's that the Veach scene uses with the best preset (its file
-# names none: the defaults): selection by contribution (five lights), lobe mixing (near-mirror
+# names none: the defaults): a sample of every light (five lights), lobe mixing (near-mirror
 # plates), the unblocked control variate (a Lambertian floor under sphere lights).
-VEACH_BEST_STRATEGIES=contribution,lobe,control-variate
+VEACH_BEST_STRATEGIES=every,lobe,control-variate
 
 # check_strategies LIST NAME...: the linked firmware carries the code of exactly the strategies
 # beyond the lecture's that LIST names (scripts/symbols.sh --strategies).

@@ -11,9 +11,10 @@
 #                                   target's compiler_builtins and alloc rlibs), so it can fail
 #   scripts/symbols.sh --strategies none FILE...
 #                                   fails if a linked firmware carries code of a strategy beyond
-#                                   the lecture's: selection by contribution (contribution), lobe
-#                                   mixing (lobe), the one-sample model (one-sample), the control
-#                                   variate (control-variate)
+#                                   the lecture's: selection by contribution (contribution), a
+#                                   sample of every light (every), lobe mixing (lobe), the
+#                                   one-sample model (one-sample), the control variate
+#                                   (control-variate)
 #   scripts/symbols.sh --strategies LIST FILE...
 #                                   LIST: names from those, comma-separated; fails unless the
 #                                   firmware carries the code of exactly those
@@ -68,7 +69,7 @@ check() {
 
 # The strategies beyond the lecture's, as "name:pattern" (a pattern of demangled symbol names
 # that the strategy's code keeps out of line: the kernel marks them #[inline(never)]).
-STRATEGIES="contribution:select::contribution::ByContribution lobe:light::lobe::Lobe::towards one-sample:estimate_direct_one_sample control-variate:closed_form::unoccluded_light"
+STRATEGIES="contribution:select::contribution::ByContribution every:::every_light_sample lobe:light::lobe::Lobe::towards one-sample:estimate_direct_one_sample control-variate:closed_form::unoccluded_light"
 
 # strategies WANT FILE: WANT none (no strategy's code) or a comma-separated list of the names of
 # STRATEGIES (exactly those strategies' code).
@@ -123,7 +124,7 @@ if [ "${1:-}" = --strategies ]; then
   want=${2:-}
   for name in ${want//,/ }; do
     [ "$name" = none ] || [[ " $STRATEGIES" == *" $name:"* ]] ||
-      { echo "symbols.sh --strategies none|NAME,NAME... FILE... (names: contribution, lobe, one-sample, control-variate)" >&2; exit 2; }
+      { echo "symbols.sh --strategies none|NAME,NAME... FILE... (names: contribution, every, lobe, one-sample, control-variate)" >&2; exit 2; }
   done
   shift 2
   rc=0

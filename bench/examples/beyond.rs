@@ -484,6 +484,10 @@ fn weights(file: &SceneFile, args: &Args) {
         (LightSelection::Contribution, SphereSampling::Cone) => {
             weights_with::<ByContribution<HOST_LIGHTS>, sphere::InCone>(file, args)
         }
+        (LightSelection::Every, _) => {
+            eprintln!("beyond: the weights study draws one light per light sample, not `every`");
+            std::process::exit(2);
+        }
     }
 }
 

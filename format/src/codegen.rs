@@ -38,7 +38,9 @@ pub fn firmware_settings(s: &SceneFile) -> RenderSettings {
     let (lights, materials) = (s.light_kinds(), s.material_kinds());
     let area_lights = lights.spheres || lights.quads;
     let selection = match settings.light_selection() {
-        LightSelection::Contribution if s.counts().lights <= 1 => LightSelection::Uniform,
+        LightSelection::Contribution | LightSelection::Every if s.counts().lights <= 1 => {
+            LightSelection::Uniform
+        }
         other => other,
     };
     let quads = match settings.quad_sampling() {

@@ -366,7 +366,9 @@ mod tests {
         assert!(e.contains("unknown field `lobe_mixng`") && e.contains("lobe_mixing"), "{e}");
         let e = desc(r#"{"light_selection": "random"}"#).unwrap_err();
         assert!(
-            e.contains(r#"unknown light selection "random" (expected uniform, power or contribution)"#),
+            e.contains(
+                r#"unknown light selection "random" (expected uniform, power, contribution or every)"#
+            ),
             "{e}"
         );
     }

@@ -258,7 +258,7 @@ fn light_selection_names_come_from_the_kernel() {
     rejects(
         &v,
         "integrator.light_selection",
-        "unknown light selection \"random\" (expected uniform, power or contribution)",
+        "unknown light selection \"random\" (expected uniform, power, contribution or every)",
     );
     let mut v = veach();
     v["integrator"]["sampler"] = "halton".into();

@@ -341,7 +341,7 @@ fn pixel(
         picomis_host::renderer(&scene, settings).map_err(|e| SimError::Usage(format!("{name}: {e}")))?;
     let estimate = renderer.render_pixel(x, y);
     let title = format!("{}; pixel ({x}, {y})", summary(name, film, settings));
-    print!("{}", crate::pixel::table(&title, settings, &estimate));
+    print!("{}", crate::pixel::table(&title, settings, scene.lights().len(), &estimate));
     Ok(())
 }
 

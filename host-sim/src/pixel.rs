@@ -4,7 +4,7 @@
 //! and the mean MIS weight of those. The parts are the kernel's [`Estimate`] of the pixel, the
 //! one the render writes there (`Renderer::render_pixel`), and add up to its value.
 
-use picomis::{ControlVariate, Estimate, MisModel, RenderSettings, Rgb, TechniqueEstimate};
+use picomis::{ControlVariate, Estimate, LightSelection, MisModel, RenderSettings, Rgb, TechniqueEstimate};
 
 /// Parses `X,Y` (the value parser of `--pixel`).
 pub fn parse(s: &str) -> Result<(u32, u32), String> {
@@ -20,10 +20,16 @@ pub fn value(v: f32) -> String {
 }
 
 /// The rows of the table under its header: `[part, samples, found, mean weight, red, green,
-/// blue]`.
-fn rows(settings: &RenderSettings, e: &Estimate) -> Vec<[String; 7]> {
+/// blue]`; `lights`: the scene's number of lights (a light sample of the selection `every` is
+/// one sample of each).
+fn rows(settings: &RenderSettings, lights: usize, e: &Estimate) -> Vec<[String; 7]> {
     let spp = settings.spp();
     let (n_light, n_bsdf) = settings.technique_samples();
+    let n_light = if settings.light_selection() == LightSelection::Every {
+        n_light.saturating_mul(u16::try_from(lights).unwrap_or(u16::MAX))
+    } else {
+        n_light
+    };
     let one_sample = matches!(settings.mis_model(), MisModel::One { .. });
     let rgb = |c: Rgb| [value(c.x), value(c.y), value(c.z)];
     let technique = |name: &str, n: u16, t: &TechniqueEstimate| {
@@ -42,10 +48,10 @@ fn rows(settings: &RenderSettings, e: &Estimate) -> Vec<[String; 7]> {
 /// The breakdown of estimate `e` of a pixel rendered with `settings`, under `title`: a table
 /// (one row per part and the pixel's value, `emitted + light + bsdf`), then what its columns
 /// mean and what the settings change in it.
-pub fn table(title: &str, settings: &RenderSettings, e: &Estimate) -> String {
+pub fn table(title: &str, settings: &RenderSettings, lights: usize, e: &Estimate) -> String {
     let header = ["part", "samples", "found", "mean weight", "red", "green", "blue"].map(String::from);
     let mut all = vec![header];
-    all.extend(rows(settings, e));
+    all.extend(rows(settings, lights, e));
     let widths: Vec<usize> = (0..7).map(|c| all.iter().map(|r| r[c].len()).max().unwrap_or(0)).collect();
     let mut out = format!("{title}\n");
     for row in &all {
@@ -66,6 +72,11 @@ pub fn table(title: &str, settings: &RenderSettings, e: &Estimate) -> String {
         out.push_str(&format!(
             "one-sample model: each camera sample draws one technique, light with probability {}\n",
             value(settings.c_light())
+        ));
+    }
+    if settings.light_selection() == LightSelection::Every {
+        out.push_str(&format!(
+            "light selection every: each light sample is one sample of each of the scene's {lights} lights\n"
         ));
     }
     if settings.control_variate() != ControlVariate::Off {

@@ -28,7 +28,7 @@
 //!
 //! // The strategies of `Preset::Best` for scenes of at most L lights.
 //! type Best<const L: usize> = Direct<
-//!     Lights<select::ByContribution<L>, sphere::InCone, quad::BySize, lobe::On>,
+//!     Lights<select::Every, sphere::InCone, quad::BySize, lobe::On>,
 //!     control_variate::BySize,
 //!     model::Multi,
 //! >;

@@ -3,7 +3,7 @@
 //! them by their settings' enums and [`LightChoices::visit`] calls a [`VisitLights`] with the
 //! matching types, [`picomis::Lights`]`<Sel, Sp, Q, Lb>`.
 
-use picomis::light::select::{ByContribution, ByPower, Uniform};
+use picomis::light::select::{ByContribution, ByPower, Every, Uniform};
 use picomis::light::{LightStrategies, Lights, Select, lobe, quad, sphere};
 use picomis::{LightSelection, LobeMixing, QuadSampling, RenderSettings, SphereSampling};
 
@@ -61,6 +61,7 @@ impl LightChoices {
             LightSelection::Uniform => self.spheres::<L, Uniform, V>(visitor),
             LightSelection::Power => self.spheres::<L, ByPower<L>, V>(visitor),
             LightSelection::Contribution => self.spheres::<L, ByContribution<L>, V>(visitor),
+            LightSelection::Every => self.spheres::<L, Every, V>(visitor),
         }
     }
 

@@ -18,7 +18,7 @@ use crate::integrator::mis::{Method, Technique};
 use crate::integrator::model::Model;
 use crate::integrator::settings::{RenderSettings, SettingsSource};
 use crate::integrator::strategies::Strategies;
-use crate::light::{LightSampler, LightStrategies, Residual, Select, SelectionAt, ShadingPoint};
+use crate::light::{LightChoice, LightSampler, LightStrategies, Residual, Select, SelectionAt, ShadingPoint};
 use crate::num::{Frame, Rgb, Vec3};
 use crate::query::accel::{POINT_TERMS, PointRays};
 use crate::sampling::Sampler;
@@ -159,9 +159,9 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
         at.with_rays(self.scene, |from_x| {
             // Technique 1, light sampling: a light, y on it, visibility, w_l L_e f cos / (n_l p_l).
             for _ in 0..n_l {
-                if let Some(s) = self.light_sample(at, from_x, sampler) {
-                    add_light_sample(&mut by_light, self.method(), &s, n_light, n_bsdf);
-                }
+                self.light_samples(at, from_x, sampler, |s| {
+                    add_light_sample(&mut by_light, self.method(), &s, n_light, n_bsdf)
+                });
             }
 
             // Technique 2, BSDF sampling: wi ~ p_b, trace; if a light's front side is hit,
@@ -192,9 +192,9 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
         // The multi-sample formulas with n_i replaced by c_i, for one sample of one technique.
         at.with_rays(self.scene, |from_x| {
             if sampler.next_f32() < c_light {
-                if let Some(s) = self.light_sample(at, from_x, sampler) {
-                    add_light_sample(&mut by_light, self.method(), &s, c_light, c_bsdf);
-                }
+                self.light_samples(at, from_x, sampler, |s| {
+                    add_light_sample(&mut by_light, self.method(), &s, c_light, c_bsdf)
+                });
             } else {
                 self.bsdf_sample(at, from_x, sampler, |s| {
                     add_bsdf_sample(&mut by_bsdf, self.method(), &s, c_light, c_bsdf)
@@ -202,6 +202,48 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
             }
         });
         (by_light, by_bsdf)
+    }
+
+    /// The light samples of one draw, each passed to `found`: the light the selection chooses,
+    /// or, with a selection that takes every light ([`Select::EVERY`]), each light in turn
+    /// ([`Self::every_light_sample`]).
+    #[inline(always)]
+    fn light_samples(
+        &self,
+        at: &Shading<'_, St, L>,
+        from_x: &PointRays<S>,
+        sampler: &mut Sampler,
+        mut found: impl FnMut(Found),
+    ) {
+        if <<St::Lights as LightStrategies<L>>::Selection as Select<L>>::EVERY {
+            self.every_light_sample(at, from_x, sampler, found);
+        } else if let Some(s) = self.light_sample(at, from_x, sampler) {
+            found(s);
+        }
+    }
+
+    /// One sample of every light that is not exact here, all with the same random numbers, each
+    /// with probability one. (Out of line: a firmware that carries it shows it by name.)
+    #[inline(never)]
+    fn every_light_sample(
+        &self,
+        at: &Shading<'_, St, L>,
+        from_x: &PointRays<S>,
+        sampler: &mut Sampler,
+        mut found: impl FnMut(Found),
+    ) {
+        let (bits, v) = sampler.next_2d_reusable();
+        let u = crate::sampling::sampler::to_unit(bits);
+        for k in 0..self.scene.lights().len() {
+            let light = LightId::new(k as u16);
+            let probability = self.lights.pmf(&at.selection, light);
+            if probability > 0.0 {
+                let chosen = LightChoice { light, probability };
+                if let Some(s) = self.light_sample_on(at, from_x, chosen, crate::num::Vec2::new(u, v)) {
+                    found(s);
+                }
+            }
+        }
     }
 
     /// One light sample: a light and a point on it, f L_e, with V (or V - 1 for a light in
@@ -216,7 +258,19 @@ impl<'a, St: Strategies<L>, const S: usize, const L: usize, const M: usize> Inte
         // One 2-D request: its first number chooses the light and, rescaled, places the point.
         let (u_select, v) = sampler.next_2d_reusable();
         let (chosen, u) = self.lights.select_reusing(&at.selection, u_select)?;
-        let ls = self.lights.sample(chosen.light, &at.point, crate::num::Vec2::new(u, v))?;
+        self.light_sample_on(at, from_x, chosen, crate::num::Vec2::new(u, v))
+    }
+
+    /// A light sample of the light `chosen` with the random numbers `u`.
+    #[inline(always)]
+    fn light_sample_on(
+        &self,
+        at: &Shading<'_, St, L>,
+        from_x: &PointRays<S>,
+        chosen: LightChoice,
+        u: crate::num::Vec2,
+    ) -> Option<Found> {
+        let ls = self.lights.sample(chosen.light, &at.point, u)?;
         // The light technique's pdf of this direction: p_l = P(light) p_w(wi | light).
         let p_light = chosen.probability * ls.pdf;
         let wi = at.bsdf.to_local(&at.frame, ls.wi);

@@ -31,9 +31,9 @@ crate::choices! {
     /// Where a render's settings start from, before a scene file's integrator block and the
     /// command line's flags change any of them.
     pub enum Preset: "preset" {
-        /// The settings that measure best: what every render gets unless told otherwise (lights
-        /// by contribution, lobe mixing, the control variate by its rule, `auto`).
-        Best = "best", "the settings that measure best (the default): lights by contribution, lobe mixing, the control variate by its rule";
+        /// The settings that measure best: what every render gets unless told otherwise (a sample
+        /// of every light, lobe mixing, quads and the control variate by their rules).
+        Best = "best", "the settings that measure best (the default): every light sampled, lobe mixing, quads and the control variate by their rules";
         /// The lecture's estimator: every light equally likely, quad lights by area, light
         /// samples from the light alone, no control variate.
         Lecture = "lecture", "the lecture's estimator: lights equally likely, quads by area, no lobe mixing, no control variate";
@@ -61,14 +61,15 @@ impl Preset {
         match self {
             Preset::Lecture => lecture,
             // Measured on every built-in scene and on the test scenes of `tests/scenes/`
-            // (`host-sim/examples/defaults.rs`, docs/defaults.md): lights by contribution, light
+            // (`host-sim/examples/defaults.rs`, docs/defaults.md): each light sample one sample
+            // of every light (no selection noise: docs/techniques/every-light.md), light
             // samples also from near-mirror lobes, quads in solid angle warped by the cosine where
             // the warp fits and by area where a Lambertian receiver sees them small and steep,
             // and the control variate by its rule, by size where a scene has one light. Each applies only where it can
             // help (several lights; a GGX lobe narrower than a light; a quad light; a Lambertian
             // receiver of area lights) and leaves the image unchanged elsewhere.
             Preset::Best => RenderSettings {
-                selection: LightSelection::Contribution,
+                selection: LightSelection::Every,
                 lobe: LobeMixing::On,
                 quads: QuadSampling::BySize,
                 control_variate: ControlVariate::BySize,

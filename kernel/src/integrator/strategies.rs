@@ -8,7 +8,7 @@ use crate::error::SceneError;
 use crate::integrator::control_variate::{self, ControlVariate, ControlVariateStrategy};
 use crate::integrator::model::{self, MisModel, Model};
 use crate::integrator::settings::{Given, RenderSettings, SettingsSource};
-use crate::light::select::{ByContribution, ByPower, Uniform};
+use crate::light::select::{ByContribution, ByPower, Every, Uniform};
 use crate::light::{
     LightSelection, LightStrategies, Lights, LobeMixing, QuadSampling, SphereSampling, lobe, quad, sphere,
 };
@@ -75,6 +75,7 @@ pub fn dispatch<const L: usize, V: Visit<L>>(settings: &RenderSettings, visitor:
         LightSelection::Uniform => spheres::<L, Uniform, V>(settings, visitor),
         LightSelection::Power => spheres::<L, ByPower<L>, V>(settings, visitor),
         LightSelection::Contribution => spheres::<L, ByContribution<L>, V>(settings, visitor),
+        LightSelection::Every => spheres::<L, Every, V>(settings, visitor),
     }
 }
 
@@ -144,6 +145,7 @@ pub mod type_paths {
             LightSelection::Uniform => "picomis::light::select::Uniform",
             LightSelection::Power => "picomis::light::select::ByPower<L>",
             LightSelection::Contribution => "picomis::light::select::ByContribution<L>",
+            LightSelection::Every => "picomis::light::select::Every",
         }
     }
 
@@ -284,7 +286,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(n, 3 * 2 * 5 * 2 * 4 * 2);
+        assert_eq!(n, 4 * 2 * 5 * 2 * 4 * 2);
         // The types of scenes without sphere or quad lights.
         use crate::light::{quad::QuadSampler, sphere::SphereSampler};
         assert_eq!(ident(type_paths::NO_SPHERES), ident(core::any::type_name::<sphere::Absent>()));

@@ -3,7 +3,7 @@
 
 use crate::runner::{Tally, check_property, estimator};
 use crate::scenes::{build, scene_spec, settings};
-use picomis::{Estimate, Method, RenderSettings, Rgb};
+use picomis::{Estimate, LightSelection, Method, RenderSettings, Rgb};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseResult;
 
@@ -11,8 +11,18 @@ pub fn finite_non_negative(c: Rgb) -> bool {
     c.is_finite() && c.min_element() >= 0.0
 }
 
-fn check_estimate(e: &Estimate, settings: &RenderSettings, at: (u32, u32), tally: &Tally) -> TestCaseResult {
+/// `lights`: how many lights the scene has (a light sample of the selection `every` is one
+/// sample of each).
+fn check_estimate(
+    e: &Estimate,
+    settings: &RenderSettings,
+    lights: u16,
+    at: (u32, u32),
+    tally: &Tally,
+) -> TestCaseResult {
     let (n_light, n_bsdf) = settings.technique_samples();
+    let n_light =
+        if settings.light_selection() == LightSelection::Every { n_light * lights } else { n_light };
     prop_assert!(finite_non_negative(e.emitted), "pixel {at:?}: emitted {}", e.emitted);
     prop_assert!(finite_non_negative(e.radiance()), "pixel {at:?}: radiance {}", e.radiance());
     let single = |m: Method| settings.method() == m;
@@ -62,7 +72,8 @@ fn render_pixel_outputs_are_finite() {
         let it = estimator(&scene, &settings)?;
         for y in 0..4 {
             for x in 0..6 {
-                check_estimate(&it.render_pixel(x, y), &settings, (x, y), &tally)?;
+                let lights = scene.lights().len() as u16;
+                check_estimate(&it.render_pixel(x, y), &settings, lights, (x, y), &tally)?;
             }
         }
         Ok(())

@@ -5,7 +5,7 @@
 use crate::charts::{QuadChart, VisibleCap};
 use crate::one_light::{quad_light, sample_point};
 use crate::{CHI2_TESTS, N_CHI2};
-use picomis::light::select::{ByContribution, ByPower, Uniform};
+use picomis::light::select::{ByContribution, ByPower, Every, Uniform};
 use picomis::light::sphere::InCone;
 use picomis::light::{LightStrategies, Lights, Select, lobe, quad};
 use picomis::{
@@ -92,6 +92,8 @@ fn chi2_light_selection() {
             LightSelection::Power => (powers.iter().map(|p| p / total).collect(), 1e-6),
             // f32 arithmetic against f64.
             LightSelection::Contribution => (importance.iter().map(|p| p / total_importance).collect(), 1e-4),
+            // No choice: every light is sampled, each with probability one (checked below).
+            LightSelection::Every => (vec![1.0; 4], 0.0),
         };
         match selection {
             LightSelection::Uniform => check_selection::<Uniform>(&s, k as u32, &exact, tolerance),
@@ -99,6 +101,7 @@ fn chi2_light_selection() {
             LightSelection::Contribution => {
                 check_selection::<ByContribution<5>>(&s, k as u32, &exact, tolerance)
             }
+            LightSelection::Every => check_every(&s, &exact),
         }
     }
 }
@@ -123,6 +126,19 @@ fn check_selection<Sel: Select<5>>(s: &LightScene, k: u32, exact: &[f64], tolera
     }
     let expected: Vec<f64> = exact.iter().map(|p| p * N_CHI2 as f64).collect();
     assert_chi2(&format!("light selection {selection:?}"), &observed, &expected, CHI2_TESTS);
+}
+
+/// [`Every`] chooses no light and gives each of the scene's lights probability one (`exact`),
+/// none beyond them.
+fn check_every(s: &LightScene, exact: &[f64]) {
+    let lights = LightSampler::<Lights<Every, InCone, quad::ByArea, lobe::Off>, 4, 5, 1>::new(s);
+    let bsdf = Material::lambertian(Rgb::splat(0.5)).unwrap();
+    let at = lights.selection_at(&ShadingPoint { p: Vec3::ZERO, n: Vec3::Y, wo: Vec3::Y, bsdf });
+    for (i, e) in exact.iter().enumerate() {
+        assert_eq!(f64::from(lights.pmf(&at, LightId::new(i as u16))), *e, "P(light {i})");
+    }
+    assert_eq!(lights.pmf(&at, LightId::new(exact.len() as u16)), 0.0, "beyond the lights");
+    assert!(lights.select(&at, 0.5).is_none(), "every: no choice");
 }
 
 /// Light selection by power is exact: every light is chosen with exactly the probability the
@@ -171,7 +187,9 @@ fn chi2_scene_light_sampling() {
     let s = light_scene();
     let mut k = 0;
     for spheres in [SphereSampling::Cone, SphereSampling::Area] {
-        for selection in LightSelection::ALL {
+        // (`every` chooses no light: each light's sampling is the one checked here under the
+        // other selections, and its pmf of one in `chi2_light_selection`.)
+        for selection in LightSelection::ALL.into_iter().filter(|&s| s != LightSelection::Every) {
             k += 1;
             LightChoices::new(selection, spheres).visit(SceneLightSampling { s: &s, spheres, selection, k });
         }

@@ -10,14 +10,17 @@
 //! | `uniform.rs` | [`Uniform`]: every light equally likely |
 //! | `power.rs` | [`ByPower`]: in proportion to emitted power |
 //! | `contribution.rs` | [`ByContribution`]: in proportion to the estimated contribution at the shading point |
+//! | `every.rs` | [`Every`]: no choice, one sample of every light |
 //! | `importance.rs` | the cones and importances that selection by contribution estimates with |
 
 mod contribution;
+mod every;
 pub mod importance;
 mod power;
 mod uniform;
 
 pub use contribution::{ByContribution, CONTRIBUTION_FLOOR};
+pub use every::Every;
 pub use power::ByPower;
 pub use uniform::Uniform;
 
@@ -35,6 +38,8 @@ crate::choices! {
         /// Proportional to each light's estimated contribution at the shading point
         /// ([`ByContribution`]).
         Contribution = "contribution", "proportional to the estimated contribution at the shading point";
+        /// No choice: each light sample is one sample of every light ([`Every`]).
+        Every = "every", "no choice: each light sample is one sample of every light (a shadow ray each)";
     }
 }
 
@@ -45,6 +50,10 @@ pub trait Select<const L: usize>: Sized + Sync + 'static {
     /// Whether [`Select::at`] may depend on the shading point (then it is worth a copy of the
     /// point on the microcontrollers, see the estimator).
     const LOCAL: bool;
+    /// Whether a light sample is one sample of every light, each with probability
+    /// [`Select::pmf`] (one), rather than of the one light [`Select::select`] chooses (which
+    /// then chooses none).
+    const EVERY: bool = false;
     /// What the choice reads at one shading point.
     type At: Clone + core::fmt::Debug;
 
