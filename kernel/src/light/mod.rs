@@ -4,7 +4,7 @@
 //! | file | what |
 //! |---|---|
 //! | `sample.rs` | the shading point, the light chosen and the sample drawn (named structs) |
-//! | `select/` | how a light is chosen: [`select::Uniform`], [`select::ByPower`], [`select::ByContribution`] |
+//! | `select/` | how a light is chosen: [`select::Uniform`], [`select::ByPower`], [`select::ByContribution`], or none ([`select::Every`]) |
 //! | `sphere.rs` | how sphere lights are sampled: [`sphere::ByArea`], [`sphere::InCone`] |
 //! | `quad.rs` | how quad lights are sampled: [`quad::ByArea`], [`quad::SolidAngle`], [`quad::SolidAngleCosine`], [`quad::Adaptive`], [`quad::BySize`] |
 //! | `lobe.rs` | whether a glossy receiver's lobe joins the light samples: [`lobe::Off`], [`lobe::On`] |
