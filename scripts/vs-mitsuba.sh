@@ -25,6 +25,9 @@
 #        scripts/vs-mitsuba.sh --sphere-bias [flags]    Mitsuba's and picomis's sphere lights against closed
 #                                                       forms, and the Veach block where they disagree
 #                                                       (scripts/vs-mitsuba/sphere_bias.py)
+#        scripts/vs-mitsuba.sh --point-shadows [flags]  point lights' hard shadows in both against an
+#                                                       exact f64 tracer, on point_lights's block
+#                                                       where they disagree (scripts/vs-mitsuba/point_shadows.py)
 #   e.g. scripts/vs-mitsuba.sh --rounds 5 --scenes veach_mis,stress --unseen my_scene.json
 #        --add-picomis-config "independent=--sampler independent"
 set -euo pipefail
@@ -54,6 +57,9 @@ if [ "${1:-}" = --ldsampler-bias ]; then
     shift
 elif [ "${1:-}" = --sphere-bias ]; then
     script=scripts/vs-mitsuba/sphere_bias.py
+    shift
+elif [ "${1:-}" = --point-shadows ]; then
+    script=scripts/vs-mitsuba/point_shadows.py
     shift
 fi
 DRJIT_LIBLLVM_PATH=$llvm "$venv/bin/python" "$script" \
