@@ -32,7 +32,8 @@ fn method(m: Method) -> String {
 /// lights, spheres by area (`sphere::Absent`); one light, no selection by contribution; lobe mixing only with
 /// a GGX receiver and an area light; the control variate only with a Lambertian receiver and an
 /// area light, and `by-size` only where it differs from `auto` (a scene whose one light is an
-/// area light); quads `by-size` only with a Lambertian receiver (else `auto`).
+/// area light); quads `by-size` only with a receiver on which it differs from `auto` (a
+/// Lambertian or rough GGX one).
 pub fn firmware_settings(s: &SceneFile) -> RenderSettings {
     let settings = s.default_settings();
     let (lights, materials) = (s.light_kinds(), s.material_kinds());
@@ -45,7 +46,7 @@ pub fn firmware_settings(s: &SceneFile) -> RenderSettings {
     };
     let quads = match settings.quad_sampling() {
         _ if !lights.quads => QuadSampling::Area,
-        QuadSampling::BySize if !materials.lambertian => QuadSampling::Auto,
+        QuadSampling::BySize if !materials.quads_by_size => QuadSampling::Auto,
         other => other,
     };
     let spheres = if lights.spheres { settings.sphere_sampling() } else { SphereSampling::Area };

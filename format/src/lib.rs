@@ -286,11 +286,12 @@ impl SceneFile {
     pub fn material_kinds(&self) -> MaterialKinds {
         let mut kinds = MaterialKinds::default();
         for step in &self.steps {
-            match step {
-                Step::Material(Material::Lambertian { .. }) => kinds.lambertian = true,
-                Step::Material(Material::GgxConductor { .. }) => kinds.ggx = true,
-                _ => {}
+            let Step::Material(m) = step else { continue };
+            match m {
+                Material::Lambertian { .. } => kinds.lambertian = true,
+                Material::GgxConductor { .. } => kinds.ggx = true,
             }
+            kinds.quads_by_size |= picomis::light::quad::BySize::by_area_for(m);
         }
         kinds
     }
@@ -371,6 +372,9 @@ pub struct MaterialKinds {
     pub lambertian: bool,
     /// GGX conductor.
     pub ggx: bool,
+    /// A material on which quad lights `by-size` differ from `auto`
+    /// ([`picomis::light::quad::BySize::by_area_for`]).
+    pub quads_by_size: bool,
 }
 
 /// Checks that a camera description is valid for a 1x1 film (used while lowering).

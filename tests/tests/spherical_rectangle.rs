@@ -318,16 +318,18 @@ fn cosine_warp_is_unbiased_and_lowers_variance() {
 /// `by-size` takes `auto`'s way where a Lambertian receiver sees the rectangle large or at a
 /// slant, and the area's where it sees it small and steep (its diagonal under 1.5 times both
 /// heights: of the centre above the receiver's plane, of the receiver above the light's); a
-/// glossy receiver always takes `auto`'s. Unbiased either way (z-scores against quadrature).
+/// rough GGX receiver (alpha at least `BySize::ROUGH`) always the area's, a sharper one always
+/// `auto`'s. Unbiased either way (z-scores against quadrature).
 #[test]
 fn by_size_draws_small_steep_quads_by_area() {
     const N: u32 = 200_000;
     let x = Vec3::new(0.1, 0.0, -0.2);
     let lambertian = receiver(x, Vec3::Y);
-    let glossy = ShadingPoint {
-        bsdf: picomis::Material::ggx_conductor(0.3, picomis::Rgb::ONE).expect("valid GGX"),
+    let ggx = |alpha| ShadingPoint {
+        bsdf: picomis::Material::ggx_conductor(alpha, picomis::Rgb::ONE).expect("valid GGX"),
         ..lambertian
     };
+    let (rough, sharp) = (ggx(quad::BySize::ROUGH), ggx(0.05));
     // (name, light, whether a Lambertian receiver at `x` draws it by area)
     let cases = [
         // Diagonal 0.71 at height 3: small and steep.
@@ -345,8 +347,10 @@ fn by_size_draws_small_steep_quads_by_area() {
         let by_size = pdf(&light, &shape, &lambertian, centre, QuadSampling::BySize);
         assert!(area != auto, "{name}: the two ways must differ here for the check to see the choice");
         assert_eq!(by_size, if by_area { area } else { auto }, "{name}: by area {by_area}");
-        let glossy_pdf = pdf(&light, &shape, &glossy, centre, QuadSampling::BySize);
-        assert_eq!(glossy_pdf, pdf(&light, &shape, &glossy, centre, QuadSampling::Auto), "{name}, glossy");
+        let rough_pdf = pdf(&light, &shape, &rough, centre, QuadSampling::BySize);
+        assert_eq!(rough_pdf, pdf(&light, &shape, &rough, centre, QuadSampling::Area), "{name}, rough GGX");
+        let sharp_pdf = pdf(&light, &shape, &sharp, centre, QuadSampling::BySize);
+        assert_eq!(sharp_pdf, pdf(&light, &shape, &sharp, centre, QuadSampling::Auto), "{name}, sharp GGX");
         let exact = irradiance_quadrature(&lambertian, corners);
         let stats = irradiance_stats(&light, &lambertian, QuadSampling::BySize, N, 1100 + k as u32);
         assert_unbiased(&format!("{name}, by size"), &stats, exact, 0.02);

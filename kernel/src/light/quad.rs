@@ -20,8 +20,8 @@ crate::choices! {
         SolidAngleCosine = "solid-angle-cosine", "in solid angle, warped by the receiver's cosine (Hart et al. 2020)";
         /// In solid angle, warped by the cosine where the receiver does not face the quad ([`Adaptive`]).
         Auto = "auto", "in solid angle, warped by the receiver's cosine where the warp fits it";
-        /// As `auto` where the quad looks large from the receiver, by area where it looks small ([`BySize`]).
-        BySize = "by-size", "as auto where the quad looks large from the receiver, by area where it looks small (measured best)";
+        /// As `auto` where the quad looks large from the receiver, by area where it looks small or the receiver is rough ([`BySize`]).
+        BySize = "by-size", "as auto where the quad looks large from the receiver, by area where it looks small or the receiver is rough GGX (measured best)";
     }
 }
 
@@ -170,11 +170,14 @@ impl QuadSampler for Adaptive {
     }
 }
 
-/// [`Adaptive`], but by area where a Lambertian receiver sees the rectangle small and steep
-/// ([`Shape::looks_small_and_steep`] with [`BySize::SMALL`]): there the distance and both
-/// cosines hardly vary over it, a point by area has nearly the pdf of the cosine-warped one, and
-/// it costs no spherical rectangle. Decided by the receiver alone, the same way in `sample` and
-/// `pdf`. (Glossy receivers keep [`Adaptive`]: the rule was measured on Lambertian ones.)
+/// [`Adaptive`], but by area where the receiver gains nothing from the spherical rectangle
+/// ([`BySize::by_area`]): a Lambertian receiver that sees the rectangle small and steep
+/// ([`Shape::looks_small_and_steep`] with [`BySize::SMALL`]: there the distance and both
+/// cosines hardly vary over it, and a point by area has nearly the pdf of the cosine-warped
+/// one), and a rough GGX receiver ([`BySize::ROUGH`]: its lobe follows neither the solid angle
+/// nor the cosine, so the rectangle's cost buys no lower error). Decided by the receiver alone,
+/// the same way in `sample` and `pdf`. Near-mirror receivers keep [`Adaptive`]: where their
+/// lobe meets a large quad at a grazing angle (stress's floor), light samples still matter.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BySize;
 
@@ -184,6 +187,33 @@ impl BySize {
     /// the error on glossy_lights stays within 4 % of `auto`'s (its wall sees a tilted panel at
     /// a grazing angle), while on box_quad and diffuse_room the time falls by a third.
     pub const SMALL: f32 = 1.5;
+
+    /// The GGX alpha from which a receiver draws quads by area. Measured (docs/defaults.md):
+    /// on glossy_lights (alpha 0.3 to 0.8) by area has 0.97x the error at about 0.8x the time;
+    /// on stress, by area on its alpha = 0.001 floor has 1.04x the error. No scene measured has
+    /// quad lights and an alpha between 0.05 and 0.3; 0.25 keeps every measured near mirror
+    /// (mirror_lights: 0.004 to 0.05) and the lecture's plates (to 0.1) well below it.
+    pub const ROUGH: f32 = 0.25;
+
+    /// Whether a receiver of material `m` may draw quads by area: a Lambertian one (where the
+    /// quad looks small and steep) or a rough GGX one. Without such a receiver this strategy is
+    /// [`Adaptive`] (a firmware's build script names that then).
+    #[inline]
+    pub fn by_area_for(m: &Material) -> bool {
+        match *m {
+            Material::Lambertian { .. } => true,
+            Material::GgxConductor { alpha, .. } => alpha >= Self::ROUGH,
+        }
+    }
+
+    /// Whether the receiver `at` draws the quad `shape` by area.
+    #[inline]
+    pub fn by_area(shape: &Shape, at: &ShadingPoint) -> bool {
+        match at.bsdf {
+            Material::Lambertian { .. } => shape.looks_small_and_steep(at.p, at.n, Self::SMALL),
+            Material::GgxConductor { alpha, .. } => alpha >= Self::ROUGH,
+        }
+    }
 }
 
 impl QuadSampler for BySize {
@@ -191,9 +221,7 @@ impl QuadSampler for BySize {
 
     #[inline]
     fn seen(shape: &Shape, at: &ShadingPoint) -> Option<(Rectangle, SphericalRectangle)> {
-        if matches!(at.bsdf, Material::Lambertian { .. })
-            && shape.looks_small_and_steep(at.p, at.n, Self::SMALL)
-        {
+        if Self::by_area(shape, at) {
             return None;
         }
         rectangle_in_solid_angle(shape, at.p)
