@@ -1,13 +1,14 @@
-"""Where picomis and Mitsuba 3 disagree on point_lights: the point lights' hard shadows, against an exact tracer.
+"""Where picomis and Mitsuba 3 disagree on point_lights and glossy_lights: point lights' hard shadows, against an exact tracer.
 
 Run by `scripts/vs-mitsuba.sh --point-shadows` (which sets up the venv and builds picomis-sim).
 
 The claim (docs/vs-mitsuba.md, Reading): compare.py's agreement rule sees one block of point_lights,
 (224, 160) (16x16 pixels of 480x360), where picomis's defaults lie about 9 standard errors above
-Mitsuba's converged reference. Its z-scores run along thin arcs on the back wall: the edges of the
-hard shadows that the two balls cast from the point lights. To tell which renderer is right there,
-the scene is reduced to what a closed computation can follow: the same geometry and camera with
-only the two point lights (the sphere light's sphere stays, as an occluder that emits nothing).
+Mitsuba's converged reference, and one of glossy_lights, (0, 16), about 6. Their z-scores run
+along thin lines on the back walls: the edges of hard shadows cast from point lights (the balls'
+on point_lights, the quad light's own on glossy_lights). To tell which renderer is right there,
+each scene is reduced to what a closed computation can follow: the same geometry and camera with
+only the point lights (the area lights' shapes stay, as occluders that emit nothing).
 Then a pixel's value is the mean over its footprint of rho / pi * I * cos / d^2 * V, with nothing
 sampled but the footprint, and this script computes it in f64 (numpy; its own ray-quad and
 ray-sphere tests, no offsets: a shadow ray skips the surface it starts on, 128 x 128 stratified
@@ -34,22 +35,23 @@ from sphere_bias import mean_se, read_pfm  # noqa: E402
 
 mi = compare.mi
 
-SCENE = "point_lights"
+# (scene, its file in the repository, the block (x, y) at 480x360 where compare.py saw the difference)
+SCENES = [("point_lights", "scenes/point_lights.json", (224, 160)),
+          ("glossy_lights", "tests/scenes/glossy_lights.json", (0, 16))]
 WIDTH, HEIGHT = 480, 360
-BLOCK = (224, 160)
 SIZE = 16
 SPP = 256
 FOOTPRINT = 128
 
 
-def points_only(work):
-    """The built-in scene (its file in scenes/) without the sphere light's emission, written as a file."""
+def points_only(name, file, work):
+    """The scene `file` (relative to the repository) without its area lights' emission, written as a file."""
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    with open(os.path.join(root, "scenes", f"{SCENE}.json"), encoding="utf-8") as f:
+    with open(os.path.join(root, file), encoding="utf-8") as f:
         scene = json.load(f)
     for shape in scene["shapes"]:
         shape.pop("emitter", None)
-    scene["name"] = f"{SCENE}_points_only"
+    scene["name"] = f"{name}_points_only"
     path = os.path.join(work, f"{scene['name']}.json")
     with open(path, "w", encoding="utf-8") as f:
         json.dump(scene, f)
@@ -155,17 +157,10 @@ class Exact:
         return value, edge
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--picomis", required=True, help="picomis-sim binary")
-    ap.add_argument("--work", required=True, help="scratch folder")
-    ap.add_argument("--passes", type=int, default=256, help="Mitsuba passes of 256 spp on the block")
-    ap.add_argument("--out", help="also write the report to this markdown file")
-    args = ap.parse_args()
-    os.makedirs(args.work, exist_ok=True)
-    x0, y0 = BLOCK
-
-    scene, path = points_only(args.work)
+def measure(args, name, file, block):
+    """The report's rows for one scene: its block's pixels, exact, picomis's and Mitsuba's."""
+    x0, y0 = block
+    scene, path = points_only(name, file, args.work)
     exact = Exact(scene)
     truth = np.full((SIZE, SIZE, 3), np.nan)
     edge = np.zeros((SIZE, SIZE), dtype=bool)
@@ -183,7 +178,7 @@ def main():
                         str(SPP), "--seed", str(100 + k), "--out", out], check=True, capture_output=True)
         picomis.append(read_pfm(out)[y0:y0 + SIZE, x0:x0 + SIZE])
 
-    exported = compare.export_scene(args.picomis, f"{SCENE}_points_only", path, "file", WIDTH, HEIGHT, args.work)
+    exported = compare.export_scene(args.picomis, f"{name}_points_only", path, "file", WIDTH, HEIGHT, args.work)
     xml = open(exported.xml, encoding="utf-8").read()
     crop = ('<rfilter type="box"/>\n<integer name="crop_offset_x" value="%d"/><integer name="crop_offset_y" '
             'value="%d"/><integer name="crop_width" value="%d"/><integer name="crop_height" value="%d"/>'
@@ -191,33 +186,51 @@ def main():
     xml, n = re.subn(r'<rfilter type="box"\s*/>', crop, xml, count=1)
     if n != 1:
         sys.exit("error: no box filter in the exported scene to put the crop beside")
-    cropped = os.path.join(args.work, "point_shadows_block.xml")
+    cropped = os.path.join(args.work, f"{name}_points_only_block.xml")
     with open(cropped, "w", encoding="utf-8") as f:
         f.write(xml)
     s = compare.load_mitsuba(exported, "independent", SPP, cropped)
     mitsuba = [np.array(mi.render(s, spp=SPP, seed=7_000_000 + k), dtype=np.float64)[:, :, :3]
                for k in range(args.passes)]
 
-    lines = [
-        "# Point lights' hard shadows in Mitsuba 3 and picomis against an exact tracer",
-        "",
-        f"Mitsuba {mi.__version__} `llvm_ad_rgb`. Written by `scripts/vs-mitsuba.sh --point-shadows` "
-        "(`scripts/vs-mitsuba/point_shadows.py`, whose docstring has the method). The scene: point_lights "
-        f"with its two point lights only, {WIDTH}x{HEIGHT}; the block ({x0}, {y0}), {SIZE}x{SIZE} pixels, "
-        f"{int(keep.sum())} of them Lambertian, {int((edge & keep).sum())} crossed by a shadow edge.",
-        "",
-        "| pixels | exact (f64) | picomis, defaults | relative | z | Mitsuba, independent | relative | z |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|",
-    ]
+    rows = []
     for label, mask in [("all Lambertian", keep), ("shadow edges", edge & keep), ("no shadow edge", keep & ~edge)]:
         if not mask.any():
             continue
         t = truth[mask].mean()
         p, p_se = mean_se([img[mask].mean() for img in picomis])
         m, m_se = mean_se([img[mask].mean() for img in mitsuba])
-        lines.append(
-            f"| {label} ({int(mask.sum())}) | {t:.6f} | {p:.6f} ± {p_se:.1g} | {p / t - 1:+.1e} | "
-            f"{(p - t) / p_se:+.1f} | {m:.6f} ± {m_se:.1g} | {m / t - 1:+.1e} | {(m - t) / m_se:+.1f} |")
+        rows.append(
+            f"| {name} ({x0}, {y0}) | {label} ({int(mask.sum())}) | {t:.6f} | {p:.6f} ± {p_se:.1g} | "
+            f"{p / t - 1:+.1e} | {(p - t) / p_se:+.1f} | {m:.6f} ± {m_se:.1g} | {m / t - 1:+.1e} | "
+            f"{(m - t) / m_se:+.1f} |")
+    return rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--picomis", required=True, help="picomis-sim binary")
+    ap.add_argument("--work", required=True, help="scratch folder")
+    ap.add_argument("--passes", type=int, default=256, help="Mitsuba passes of 256 spp on each block")
+    ap.add_argument("--out", help="also write the report to this markdown file")
+    args = ap.parse_args()
+    os.makedirs(args.work, exist_ok=True)
+
+    lines = [
+        "# Point lights' hard shadows in Mitsuba 3 and picomis against an exact tracer",
+        "",
+        f"Mitsuba {mi.__version__} `llvm_ad_rgb`. Written by `scripts/vs-mitsuba.sh --point-shadows` "
+        "(`scripts/vs-mitsuba/point_shadows.py`, whose docstring has the method). Each scene with its "
+        f"point lights only, {WIDTH}x{HEIGHT}; the {SIZE}x{SIZE} block where compare.py saw the renderers "
+        "differ; its Lambertian pixels, split into those a shadow edge crosses (partly shadowed from some "
+        "light, by the exact tracer) and the others.",
+        "",
+        "| scene (block) | pixels | exact (f64) | picomis, defaults | relative | z | Mitsuba, independent "
+        "| relative | z |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for name, file, block in SCENES:
+        lines += measure(args, name, file, block)
     lines += [
         "",
         f"picomis: 4 renders of {SPP} spp; Mitsuba: {args.passes} passes of {SPP} spp on a crop of the block; "
