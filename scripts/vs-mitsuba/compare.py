@@ -300,6 +300,20 @@ def export_scene(picomis, name, source, kind, width, height, work):
     return Scene(name, source, kind, width, height, xml, ref_xml, flags)
 
 
+def crop_xml(scene, x, y, width, height, path):
+    """Writes to `path` the scene's XML with its film cropped to width x height pixels at (x, y)."""
+    xml = open(scene.xml, encoding="utf-8").read()
+    crop = ('<rfilter type="box"/>\n<integer name="crop_offset_x" value="%d"/><integer name="crop_offset_y" '
+            'value="%d"/><integer name="crop_width" value="%d"/><integer name="crop_height" value="%d"/>'
+            % (x, y, width, height))
+    xml, n = re.subn(r'<rfilter type="box"\s*/>', crop, xml, count=1)
+    if n != 1:
+        sys.exit("error: no box filter in the exported scene to put the crop beside")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(xml)
+    return path
+
+
 def load_mitsuba(scene, sampler, spp, xml=None):
     return mi.load_file(xml or scene.xml, sampler=sampler, spp=spp, resx=scene.width, resy=scene.height)
 

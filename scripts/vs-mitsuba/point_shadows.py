@@ -23,7 +23,6 @@ Three estimates of the block and of its shadow-edge pixels (those the tracer fin
 import argparse
 import json
 import os
-import re
 import subprocess
 import sys
 
@@ -179,16 +178,8 @@ def measure(args, name, file, block):
         picomis.append(read_pfm(out)[y0:y0 + SIZE, x0:x0 + SIZE])
 
     exported = compare.export_scene(args.picomis, f"{name}_points_only", path, "file", WIDTH, HEIGHT, args.work)
-    xml = open(exported.xml, encoding="utf-8").read()
-    crop = ('<rfilter type="box"/>\n<integer name="crop_offset_x" value="%d"/><integer name="crop_offset_y" '
-            'value="%d"/><integer name="crop_width" value="%d"/><integer name="crop_height" value="%d"/>'
-            % (x0, y0, SIZE, SIZE))
-    xml, n = re.subn(r'<rfilter type="box"\s*/>', crop, xml, count=1)
-    if n != 1:
-        sys.exit("error: no box filter in the exported scene to put the crop beside")
-    cropped = os.path.join(args.work, f"{name}_points_only_block.xml")
-    with open(cropped, "w", encoding="utf-8") as f:
-        f.write(xml)
+    cropped = compare.crop_xml(exported, x0, y0, SIZE, SIZE,
+                               os.path.join(args.work, f"{name}_points_only_block.xml"))
     s = compare.load_mitsuba(exported, "independent", SPP, cropped)
     mitsuba = [np.array(mi.render(s, spp=SPP, seed=7_000_000 + k), dtype=np.float64)[:, :, :3]
                for k in range(args.passes)]

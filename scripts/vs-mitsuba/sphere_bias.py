@@ -19,7 +19,6 @@ converged image is about 1e-3 brighter than picomis's. Two measurements:
 import argparse
 import json
 import os
-import re
 import subprocess
 import sys
 
@@ -130,15 +129,7 @@ def main():
                      f"| {p:.6f} ± {p_se:.1g} | {p / exact - 1:+.1e} |")
 
     scene = compare.export_scene(args.picomis, "veach_mis", "veach_mis", "built-in", 384, 256, args.work)
-    xml = open(scene.xml, encoding="utf-8").read()
-    crop = ('<rfilter type="box"/>\n<integer name="crop_offset_x" value="%d"/><integer name="crop_offset_y" '
-            'value="%d"/><integer name="crop_width" value="16"/><integer name="crop_height" value="16"/>' % BLOCK)
-    xml, n = re.subn(r'<rfilter type="box"\s*/>', crop, xml, count=1)
-    if n != 1:
-        sys.exit("error: no box filter in the exported scene to put the crop beside")
-    cropped = os.path.join(args.work, "veach_block.xml")
-    with open(cropped, "w", encoding="utf-8") as f:
-        f.write(xml)
+    cropped = compare.crop_xml(scene, *BLOCK, 16, 16, os.path.join(args.work, "veach_block.xml"))
     s = compare.load_mitsuba(scene, "independent", SPP, cropped)
     m, m_se = mean_se([np.array(mi.render(s, spp=SPP, seed=5_000_000 + k), dtype=np.float64)[:, :, :3].mean()
                        for k in range(args.passes)])
