@@ -23,14 +23,13 @@ Three estimates of the block and of its shadow-edge pixels (those the tracer fin
 import argparse
 import json
 import os
-import subprocess
 import sys
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import compare  # noqa: E402  (sets Mitsuba's variant)
-from sphere_bias import mean_se, read_pfm  # noqa: E402
+from sphere_bias import SPP, mean_se, picomis_passes, read_pfm  # noqa: E402
 
 mi = compare.mi
 
@@ -39,7 +38,6 @@ SCENES = [("point_lights", "scenes/point_lights.json", (224, 160)),
           ("glossy_lights", "tests/scenes/glossy_lights.json", (0, 16))]
 WIDTH, HEIGHT = 480, 360
 SIZE = 16
-SPP = 256
 FOOTPRINT = 128
 
 
@@ -170,12 +168,9 @@ def measure(args, name, file, block):
                 truth[j, i], edge[j, i] = got
     keep = ~np.isnan(truth[:, :, 0])
 
-    picomis = []
-    out = os.path.join(args.work, "point_shadows.pfm")
-    for k in range(4):
-        subprocess.run([args.picomis, "render", path, "--width", str(WIDTH), "--height", str(HEIGHT), "--spp",
-                        str(SPP), "--seed", str(100 + k), "--out", out], check=True, capture_output=True)
-        picomis.append(read_pfm(out)[y0:y0 + SIZE, x0:x0 + SIZE])
+    size = ["--width", str(WIDTH), "--height", str(HEIGHT)]
+    picomis = [img[y0:y0 + SIZE, x0:x0 + SIZE]
+               for img in picomis_passes(args.picomis, path, size, 4, os.path.join(args.work, "point_shadows.pfm"))]
 
     exported = compare.export_scene(args.picomis, f"{name}_points_only", path, "file", WIDTH, HEIGHT, args.work)
     cropped = compare.crop_xml(exported, x0, y0, SIZE, SIZE,
