@@ -211,7 +211,7 @@ impl BySize {
     pub fn by_area(shape: &Shape, at: &ShadingPoint) -> bool {
         match at.bsdf {
             Material::Lambertian { .. } => shape.looks_small_and_steep(at.p, at.n, Self::SMALL),
-            Material::GgxConductor { alpha, .. } => alpha >= Self::ROUGH,
+            Material::GgxConductor { .. } => Self::by_area_for(&at.bsdf),
         }
     }
 }
