@@ -315,11 +315,12 @@ fn cosine_warp_is_unbiased_and_lowers_variance() {
     }
 }
 
-/// `by-size` takes `auto`'s way where a Lambertian receiver sees the rectangle large or at a
-/// slant, and the area's where it sees it small and steep (its diagonal under 1.5 times both
-/// heights: of the centre above the receiver's plane, of the receiver above the light's); a
-/// rough GGX receiver (alpha at least `BySize::ROUGH`) always the area's, a sharper one always
-/// `auto`'s. Unbiased either way (z-scores against quadrature).
+/// `by-size` takes the area's way where a Lambertian receiver sees the rectangle small and steep
+/// (its diagonal under 1.5 times both heights: of the centre above the receiver's plane, of the
+/// receiver above the light's) or where the receiver's normal misses it, and the solid angle's
+/// where it sees it large or at a slant and its normal meets it; a rough GGX receiver (alpha at
+/// least `BySize::ROUGH`) always the area's, a sharper one always `auto`'s. Unbiased either way
+/// (z-scores against quadrature).
 #[test]
 fn by_size_draws_small_steep_quads_by_area() {
     const N: u32 = 200_000;
@@ -336,17 +337,19 @@ fn by_size_draws_small_steep_quads_by_area() {
         ("small, high overhead", rect(Vec3::new(-0.15, 3.0, -0.45), 0.5, 0.5), true),
         // Diagonal 1.70 at height 1: large.
         ("overhead", rect(Vec3::new(-0.6, 1.0, -0.6), 1.2, 1.2), false),
-        // Diagonal 0.85 at distance 1.23 (small by distance alone), but at a slant: height 0.3.
-        ("off to the side, low", rect(Vec3::new(1.0, 0.3, -0.5), 0.6, 0.6), false),
+        // Diagonal 0.85 at distance 1.23, at a slant (height 0.3), and the normal misses it.
+        ("off to the side, low", rect(Vec3::new(1.0, 0.3, -0.5), 0.6, 0.6), true),
+        // At a slant (height 0.3), and the normal meets it.
+        ("low, over the receiver", rect(Vec3::new(-0.5, 0.3, -0.6), 1.0, 0.6), false),
     ];
     for (k, (name, corners, by_area)) in cases.into_iter().enumerate() {
         let (light, shape) = quad_light(corners);
         let centre = (corners[0] + corners[2]) * 0.5;
         let area = pdf(&light, &shape, &lambertian, centre, QuadSampling::Area);
-        let auto = pdf(&light, &shape, &lambertian, centre, QuadSampling::Auto);
+        let solid_angle = pdf(&light, &shape, &lambertian, centre, QuadSampling::SolidAngle);
         let by_size = pdf(&light, &shape, &lambertian, centre, QuadSampling::BySize);
-        assert!(area != auto, "{name}: the two ways must differ here for the check to see the choice");
-        assert_eq!(by_size, if by_area { area } else { auto }, "{name}: by area {by_area}");
+        assert!(area != solid_angle, "{name}: the two ways must differ here for the check to see the choice");
+        assert_eq!(by_size, if by_area { area } else { solid_angle }, "{name}: by area {by_area}");
         let rough_pdf = pdf(&light, &shape, &rough, centre, QuadSampling::BySize);
         assert_eq!(rough_pdf, pdf(&light, &shape, &rough, centre, QuadSampling::Area), "{name}, rough GGX");
         let sharp_pdf = pdf(&light, &shape, &sharp, centre, QuadSampling::BySize);

@@ -1,6 +1,6 @@
 //! How points on quad lights are drawn: a strategy type per way ([`QuadSampler`]).
 
-use crate::geometry::{Rectangle, Shape};
+use crate::geometry::{Ray, Rectangle, Shape};
 use crate::light::sample::{LightSample, ShadingPoint};
 use crate::num::{Vec2, Vec3, sqrt};
 use crate::sampling::{
@@ -20,8 +20,8 @@ crate::choices! {
         SolidAngleCosine = "solid-angle-cosine", "in solid angle, warped by the receiver's cosine (Hart et al. 2020)";
         /// In solid angle, warped by the cosine where the receiver does not face the quad ([`Adaptive`]).
         Auto = "auto", "in solid angle, warped by the receiver's cosine where the warp fits it";
-        /// As `auto` where the quad looks large from the receiver, by area where it looks small or the receiver is rough ([`BySize`]).
-        BySize = "by-size", "as auto where the quad looks large from the receiver, by area where it looks small or the receiver is rough GGX (measured best)";
+        /// By area, but in solid angle where a Lambertian receiver's normal meets a quad that looks large, and as `auto` for sharp GGX ([`BySize`]).
+        BySize = "by-size", "by area, but in solid angle where a Lambertian receiver's normal meets a quad that looks large, and as auto for GGX sharper than alpha 0.25 (measured best)";
     }
 }
 
@@ -42,9 +42,9 @@ pub trait QuadSampler: Sync + 'static {
         rectangle_in_solid_angle(shape, at.p)
     }
 
-    /// A direction to the rectangle `rect` (seen as `sr`) from a receiver with unit normal `n`;
-    /// radiance and emitter are left for the caller.
-    fn sample(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3, u: Vec2) -> Option<LightSample>;
+    /// A direction to the rectangle `rect` (seen as `sr`) from the shading point `at`; radiance
+    /// and emitter are left for the caller.
+    fn sample(rect: &Rectangle, sr: &SphericalRectangle, at: &ShadingPoint, u: Vec2) -> Option<LightSample>;
 
     /// The pdf with which [`QuadSampler::sample`] reaches the point `y` of the rectangle from
     /// the shading point `at`.
@@ -64,7 +64,7 @@ impl QuadSampler for ByArea {
     }
 
     #[inline(always)]
-    fn sample(_: &Rectangle, _: &SphericalRectangle, _: Vec3, _: Vec2) -> Option<LightSample> {
+    fn sample(_: &Rectangle, _: &SphericalRectangle, _: &ShadingPoint, _: Vec2) -> Option<LightSample> {
         None
     }
 
@@ -90,7 +90,7 @@ impl QuadSampler for Absent {
     }
 
     #[inline(always)]
-    fn sample(_: &Rectangle, _: &SphericalRectangle, _: Vec3, _: Vec2) -> Option<LightSample> {
+    fn sample(_: &Rectangle, _: &SphericalRectangle, _: &ShadingPoint, _: Vec2) -> Option<LightSample> {
         None
     }
 
@@ -110,7 +110,7 @@ impl QuadSampler for SolidAngle {
     const KIND: QuadSampling = QuadSampling::SolidAngle;
 
     #[inline]
-    fn sample(rect: &Rectangle, sr: &SphericalRectangle, _: Vec3, u: Vec2) -> Option<LightSample> {
+    fn sample(rect: &Rectangle, sr: &SphericalRectangle, _: &ShadingPoint, u: Vec2) -> Option<LightSample> {
         toward_rectangle(rect, sr, u, None)
     }
 
@@ -131,8 +131,8 @@ impl QuadSampler for SolidAngleCosine {
     const KIND: QuadSampling = QuadSampling::SolidAngleCosine;
 
     #[inline]
-    fn sample(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3, u: Vec2) -> Option<LightSample> {
-        sample_warped(rect, sr, cosine_weights(rect, sr, n), u)
+    fn sample(rect: &Rectangle, sr: &SphericalRectangle, at: &ShadingPoint, u: Vec2) -> Option<LightSample> {
+        sample_warped(rect, sr, cosine_weights(rect, sr, at.n), u)
     }
 
     #[inline]
@@ -154,10 +154,10 @@ impl QuadSampler for Adaptive {
     const KIND: QuadSampling = QuadSampling::Auto;
 
     #[inline]
-    fn sample(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3, u: Vec2) -> Option<LightSample> {
-        match fitted_cosine_warp(sr, to_local(rect, n)) {
+    fn sample(rect: &Rectangle, sr: &SphericalRectangle, at: &ShadingPoint, u: Vec2) -> Option<LightSample> {
+        match fitted_cosine_warp(sr, to_local(rect, at.n)) {
             Some(w) => sample_warped(rect, sr, w, u),
-            None => SolidAngle::sample(rect, sr, n, u),
+            None => SolidAngle::sample(rect, sr, at, u),
         }
     }
 
@@ -170,20 +170,25 @@ impl QuadSampler for Adaptive {
     }
 }
 
-/// [`Adaptive`], but by area where the receiver gains nothing from the spherical rectangle
-/// ([`BySize::by_area`]): a Lambertian receiver that sees the rectangle small and steep
-/// ([`Shape::looks_small_and_steep`] with [`BySize::SMALL`]: there the distance and both
-/// cosines hardly vary over it, and a point by area has nearly the pdf of the cosine-warped
-/// one), and a rough GGX receiver ([`BySize::ROUGH`]: its lobe follows neither the solid angle
-/// nor the cosine, so the rectangle's cost buys no lower error). Decided by the receiver alone,
-/// the same way in `sample` and `pdf`. Near-mirror receivers keep [`Adaptive`]: where their
-/// lobe meets a large quad at a grazing angle (stress's floor), light samples still matter.
+/// The spherical rectangle only where it pays, by area elsewhere ([`BySize::by_area`]). A
+/// Lambertian receiver draws the rectangle uniformly in solid angle where its normal meets it
+/// and it does not look small and steep: there the cosine peaks inside the rectangle (a floor
+/// under a large, close ceiling light), the solid angle follows the integrand, and the cosine
+/// warp's corners would understate the peak. Elsewhere by area: where the rectangle looks small
+/// and steep ([`Shape::looks_small_and_steep`] with [`BySize::SMALL`]) the distance and both
+/// cosines hardly vary over it, and where the normal misses it the cosine is largest at its
+/// near edge, as the area's pdf in solid angle is (measured, docs/defaults.md: on box_quad and
+/// diffuse_room the cosine-warped rectangle there bought 1 % less error for 15-20 % more time).
+/// A rough GGX receiver ([`BySize::ROUGH`]) draws by area too: its lobe follows neither the
+/// solid angle nor the cosine. Sharper GGX receivers take [`Adaptive`]'s way: where their lobe
+/// meets a large quad at a grazing angle (stress's floor), light samples still matter. Decided
+/// by the receiver alone, the same way in `sample` and `pdf`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BySize;
 
 impl BySize {
     /// The ratio of heights to diagonal from which a rectangle is drawn by area
-    /// ([`Shape::looks_small_and_steep`]). Measured (docs/defaults.md, 1, 1.5, 2 and 3): at 1.5
+    /// ([`Shape::looks_small_and_steep`]). Measured before the normal's test (docs/defaults.md, 1, 1.5, 2 and 3): at 1.5
     /// the error on glossy_lights stays within 4 % of `auto`'s (its wall sees a tilted panel at
     /// a grazing angle), while on box_quad and diffuse_room the time falls by a third.
     pub const SMALL: f32 = 1.5;
@@ -195,8 +200,8 @@ impl BySize {
     /// (mirror_lights: 0.004 to 0.05) and the lecture's plates (to 0.1) well below it.
     pub const ROUGH: f32 = 0.25;
 
-    /// Whether a receiver of material `m` may draw quads by area: a Lambertian one (where the
-    /// quad looks small and steep) or a rough GGX one. Without such a receiver this strategy is
+    /// Whether a receiver of material `m` may draw quads by area: a Lambertian one (see
+    /// [`BySize::by_area`]) or a rough GGX one. Without such a receiver this strategy is
     /// [`Adaptive`] (a firmware's build script names that then).
     #[inline]
     pub fn by_area_for(m: &Material) -> bool {
@@ -206,11 +211,15 @@ impl BySize {
         }
     }
 
-    /// Whether the receiver `at` draws the quad `shape` by area.
+    /// Whether the receiver `at` draws the quad `shape` by area: a Lambertian one where the quad
+    /// looks small and steep or where its normal does not meet the quad ([`normal_meets`]), a
+    /// rough GGX one always.
     #[inline]
     pub fn by_area(shape: &Shape, at: &ShadingPoint) -> bool {
         match at.bsdf {
-            Material::Lambertian { .. } => shape.looks_small_and_steep(at.p, at.n, Self::SMALL),
+            Material::Lambertian { .. } => {
+                shape.looks_small_and_steep(at.p, at.n, Self::SMALL) || !normal_meets(shape, at)
+            }
             Material::GgxConductor { .. } => Self::by_area_for(&at.bsdf),
         }
     }
@@ -227,15 +236,30 @@ impl QuadSampler for BySize {
         rectangle_in_solid_angle(shape, at.p)
     }
 
+    /// A Lambertian receiver uniformly in solid angle (where its normal meets the quad, the cosine
+    /// peaks inside it, and the warp's corners would understate it); others as [`Adaptive`].
     #[inline]
-    fn sample(rect: &Rectangle, sr: &SphericalRectangle, n: Vec3, u: Vec2) -> Option<LightSample> {
-        Adaptive::sample(rect, sr, n, u)
+    fn sample(rect: &Rectangle, sr: &SphericalRectangle, at: &ShadingPoint, u: Vec2) -> Option<LightSample> {
+        if lambertian(at) { SolidAngle::sample(rect, sr, at, u) } else { Adaptive::sample(rect, sr, at, u) }
     }
 
     #[inline]
     fn pdf(rect: &Rectangle, sr: &SphericalRectangle, at: &ShadingPoint, y: Vec3) -> f32 {
-        Adaptive::pdf(rect, sr, at, y)
+        if lambertian(at) { SolidAngle::pdf(rect, sr, at, y) } else { Adaptive::pdf(rect, sr, at, y) }
     }
+}
+
+/// Whether the receiver's normal, from its point, meets the quad `shape` (its cosine then peaks
+/// inside the quad).
+#[inline]
+fn normal_meets(shape: &Shape, at: &ShadingPoint) -> bool {
+    shape.intersect(&Ray { origin: at.p, dir: at.n }, 0.0, f32::INFINITY).is_some()
+}
+
+/// Whether the receiver `at` is Lambertian.
+#[inline]
+fn lambertian(at: &ShadingPoint) -> bool {
+    matches!(at.bsdf, Material::Lambertian { .. })
 }
 
 /// A direction to the rectangle drawn by the cosine warp with corner weights `w`.

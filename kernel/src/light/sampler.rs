@@ -224,7 +224,7 @@ impl<'a, St: LightStrategies<L>, const S: usize, const L: usize, const M: usize>
         let x = at.p;
         if let Some((rect, sr)) = St::Quads::seen(shape, at) {
             // Decided by the setup alone, as in `pdf`: no fallback after this point.
-            return St::Quads::sample(&rect, &sr, at.n, u);
+            return St::Quads::sample(&rect, &sr, at, u);
         }
         if let Some((center, radius)) = shape.as_sphere() {
             if let Some(s) = St::Spheres::sample(center, radius, x, u) {
