@@ -212,7 +212,7 @@ impl BySize {
     }
 
     /// Whether the receiver `at` draws the quad `shape` by area: a Lambertian one where the quad
-    /// looks small and steep or where its normal does not meet the quad ([`normal_meets`]), a
+    /// looks small and steep or where its normal (a ray from its point) does not meet the quad, a
     /// rough GGX one always.
     #[inline]
     pub fn by_area(shape: &Shape, at: &ShadingPoint) -> bool {
