@@ -65,8 +65,9 @@ impl Preset {
             // of every light (no selection noise: docs/techniques/every-light.md), light
             // samples also from near-mirror lobes, quads by area except where a Lambertian
             // receiver's normal meets a large one (solid angle) or a sharp GGX receiver sees one
-            // (solid angle, warped by the cosine where the warp fits), and the control variate by its rule, by size where a scene has one light. Each applies only where it can
-            // help (several lights; a GGX lobe narrower than a light; a quad light; a Lambertian
+            // (solid angle, warped by the cosine where the warp fits), and the control variate by
+            // its rule, by size where a scene has one light. Each applies only where it can help
+            // (several lights; a GGX lobe narrower than a light; a quad light; a Lambertian
             // receiver of area lights) and leaves the image unchanged elsewhere.
             Preset::Best => RenderSettings {
                 selection: LightSelection::Every,

@@ -20,8 +20,8 @@ crate::choices! {
         SolidAngleCosine = "solid-angle-cosine", "in solid angle, warped by the receiver's cosine (Hart et al. 2020)";
         /// In solid angle, warped by the cosine where the receiver does not face the quad ([`Adaptive`]).
         Auto = "auto", "in solid angle, warped by the receiver's cosine where the warp fits it";
-        /// By area, but in solid angle where a Lambertian receiver's normal meets a quad that looks large, and as `auto` for sharp GGX ([`BySize`]).
-        BySize = "by-size", "by area, but in solid angle where a Lambertian receiver's normal meets a quad that looks large, and as auto for GGX sharper than alpha 0.25 (measured best)";
+        /// By area, but in solid angle where a Lambertian receiver's normal meets a quad that does not look small and steep, and as `auto` for sharp GGX ([`BySize`]).
+        BySize = "by-size", "by area, but in solid angle where a Lambertian receiver's normal meets a quad that does not look small and steep, and as auto for GGX sharper than alpha 0.25 (measured best)";
     }
 }
 
@@ -178,7 +178,8 @@ impl QuadSampler for Adaptive {
 /// and steep ([`Shape::looks_small_and_steep`] with [`BySize::SMALL`]) the distance and both
 /// cosines hardly vary over it, and where the normal misses it the cosine is largest at its
 /// near edge, as the area's pdf in solid angle is (measured, docs/defaults.md: on box_quad and
-/// diffuse_room the cosine-warped rectangle there bought 1 % less error for 15-20 % more time).
+/// diffuse_room the cosine-warped rectangle there bought 0.5-1 % less error for 12-14 % more
+/// time).
 /// A rough GGX receiver ([`BySize::ROUGH`]) draws by area too: its lobe follows neither the
 /// solid angle nor the cosine. Sharper GGX receivers take [`Adaptive`]'s way: where their lobe
 /// meets a large quad at a grazing angle (stress's floor), light samples still matter. Decided
@@ -188,9 +189,10 @@ pub struct BySize;
 
 impl BySize {
     /// The ratio of heights to diagonal from which a rectangle is drawn by area
-    /// ([`Shape::looks_small_and_steep`]). Measured before the normal's test (docs/defaults.md, 1, 1.5, 2 and 3): at 1.5
-    /// the error on glossy_lights stays within 4 % of `auto`'s (its wall sees a tilted panel at
-    /// a grazing angle), while on box_quad and diffuse_room the time falls by a third.
+    /// ([`Shape::looks_small_and_steep`]). Measured before the normal's test (docs/defaults.md,
+    /// 1, 1.5, 2 and 3): at 1.5 the error on glossy_lights stays within 4 % of `auto`'s (its wall
+    /// sees a tilted panel at a grazing angle), while on box_quad and diffuse_room the time falls
+    /// by a third.
     pub const SMALL: f32 = 1.5;
 
     /// The GGX alpha from which a receiver draws quads by area. Measured (docs/defaults.md):
