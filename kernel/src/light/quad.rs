@@ -230,9 +230,10 @@ impl BySize {
 impl QuadSampler for BySize {
     const KIND: QuadSampling = QuadSampling::BySize;
 
+    /// Nothing for spheres (before the rule's tests, which would cost a sphere light's every sample).
     #[inline]
     fn seen(shape: &Shape, at: &ShadingPoint) -> Option<(Rectangle, SphericalRectangle)> {
-        if Self::by_area(shape, at) {
+        if !matches!(shape, Shape::Quad(_)) || Self::by_area(shape, at) {
             return None;
         }
         rectangle_in_solid_angle(shape, at.p)
